@@ -1,0 +1,1 @@
+#include "analysis/common/summary.h"

@@ -1,0 +1,3 @@
+namespace chatterlab {
+const char* version() { return CHATTERLAB_VERSION; }
+}  // namespace chatterlab
