@@ -1,0 +1,60 @@
+// Typed access to YAML nodes that records every problem with the file and key it concerns
+// (EXPERIMENT_FORMAT.md: a clear message naming the file and key).
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace chatterlab::app {
+
+class YamlReader {
+ public:
+  explicit YamlReader(std::string file_label) : file_(std::move(file_label)) {}
+
+  // Required keys: a missing key or a wrong type is an error; the default is returned.
+  double required_double(const YAML::Node& map, const std::string& key, const std::string& path = "");
+  std::string required_string(const YAML::Node& map, const std::string& key,
+                              const std::string& path = "");
+  // Optional keys: absent -> nullopt; wrong type -> error and nullopt.
+  std::optional<double> optional_double(const YAML::Node& map, const std::string& key,
+                                        const std::string& path = "");
+  std::optional<std::string> optional_string(const YAML::Node& map, const std::string& key,
+                                             const std::string& path = "");
+  // A number or a two-element list [a, b]; one number gives {a, a}.
+  std::optional<std::pair<double, double>> optional_number_or_pair(const YAML::Node& map,
+                                                                   const std::string& key,
+                                                                   const std::string& path = "");
+  std::optional<std::pair<double, double>> optional_pair(const YAML::Node& map,
+                                                         const std::string& key,
+                                                         const std::string& path = "");
+  std::vector<std::string> string_list(const YAML::Node& map, const std::string& key,
+                                       bool required, const std::string& path = "");
+
+  // Warn about keys not in `known`, suggesting the closest known key (a misspelt key).
+  void check_keys(const YAML::Node& map, const std::set<std::string>& known,
+                  const std::string& path = "");
+
+  void error(const std::string& key_path, const std::string& what);
+  void warn(const std::string& key_path, const std::string& what);
+
+  const std::vector<std::string>& errors() const { return errors_; }
+  const std::vector<std::string>& warnings() const { return warnings_; }
+  const std::string& file() const { return file_; }
+
+ private:
+  std::string key_path(const std::string& path, const std::string& key) const;
+  std::string missing_message(const YAML::Node& map, const std::string& key) const;
+
+  std::string file_;
+  std::vector<std::string> errors_;
+  std::vector<std::string> warnings_;
+};
+
+// Edit distance between two short strings (used to suggest a misspelt key).
+int edit_distance(const std::string& a, const std::string& b);
+
+}  // namespace chatterlab::app
