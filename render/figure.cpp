@@ -1,0 +1,76 @@
+#include "render/figure.h"
+
+#include <cctype>
+#include <cmath>
+#include <sstream>
+
+#include "render/render_error.h"
+
+namespace chatterlab::render {
+namespace {
+
+// "<field> = <value>: <rule>" (CONVENTIONS.md), or "<field>: <what>" without a value.
+[[noreturn]] void fail(const std::string& field, const std::string& what) {
+  throw RenderError(field + what);
+}
+
+std::string str(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+bool is_hex_colour(const std::string& c) {
+  if (c.size() != 7 || c[0] != '#') return false;
+  for (std::size_t i = 1; i < c.size(); ++i) {
+    if (!std::isxdigit(static_cast<unsigned char>(c[i]))) return false;
+  }
+  return true;
+}
+
+void check_range(const std::string& field, const std::optional<Range>& r, bool log) {
+  if (!r) return;
+  if (!std::isfinite(r->min) || !std::isfinite(r->max) || !(r->max > r->min)) {
+    fail(field, " = [" + str(r->min) + ", " + str(r->max) + "]: must be finite with max > min");
+  }
+  if (log && !(r->min > 0.0)) {
+    fail(field, " = [" + str(r->min) + ", " + str(r->max) + "]: must be > 0 on a log axis");
+  }
+}
+
+}  // namespace
+
+void validate(const Figure& figure) {
+  if (figure.panels.empty()) fail("figure.panels", " is empty: a figure needs at least one panel");
+  if (!(figure.width_in > 0.5 && figure.width_in < 100.0)) {
+    fail("figure.width_in", " = " + str(figure.width_in) + ": must be in (0.5, 100) inches");
+  }
+  if (!(figure.height_in > 0.5 && figure.height_in < 100.0)) {
+    fail("figure.height_in", " = " + str(figure.height_in) + ": must be in (0.5, 100) inches");
+  }
+  if (!(figure.font_pt >= 4.0 && figure.font_pt <= 30.0)) {
+    fail("figure.font_pt", " = " + str(figure.font_pt) + ": must be in [4, 30] points");
+  }
+  for (std::size_t p = 0; p < figure.panels.size(); ++p) {
+    const Axes& axes = figure.panels[p];
+    const std::string panel = "figure.panels[" + std::to_string(p) + "]";
+    if (!(axes.relative_height > 0.0 && std::isfinite(axes.relative_height))) {
+      fail(panel + ".relative_height", " = " + str(axes.relative_height) + ": must be > 0");
+    }
+    check_range(panel + ".x_range", axes.x_range, axes.log_x);
+    check_range(panel + ".y_range", axes.y_range, axes.log_y);
+    for (std::size_t s = 0; s < axes.series.size(); ++s) {
+      const Series& series = axes.series[s];
+      const std::string name = panel + ".series[" + std::to_string(s) + "]";
+      if (series.x.size() != series.y.size()) {
+        fail(name, ": x has " + std::to_string(series.x.size()) + " values, y has " +
+                       std::to_string(series.y.size()) + ": must be equal");
+      }
+      if (!series.color.empty() && !is_hex_colour(series.color)) {
+        fail(name + ".color", " = '" + series.color + "': must be #RRGGBB or empty");
+      }
+    }
+  }
+}
+
+}  // namespace chatterlab::render
