@@ -1,0 +1,344 @@
+#include "analysis/frf/modal_fit.h"
+
+#include <ceres/ceres.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <string>
+
+#include "analysis/frf/fit_band.h"
+#include "analysis/frf/modal_model.h"
+#include "analysis/frf/peaks.h"
+#include "analysis/frf/windows.h"
+#include "analysis/metrics/metrics.h"
+
+namespace chatterlab {
+namespace frf {
+namespace {
+
+constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
+constexpr double kZetaMin = 1e-6;  // bounds of the fitted damping ratio
+constexpr double kZetaMax = 0.5;   // a mode damped more than this shows no peak to fit
+constexpr double kAtBound = 1e-3;  // relative distance that counts as "at a bound"
+
+std::string fmt(const char* format, double a, double b = 0.0, double c = 0.0, double d = 0.0) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, format, a, b, c, d);
+  return buf;
+}
+
+// Complex receptance residuals (model - measured) / scale, real and imaginary parts.
+class ReceptanceCost : public ceres::CostFunction {
+ public:
+  ReceptanceCost(const ModalModel& model, const Eigen::VectorXd& w, const Eigen::VectorXcd& h,
+                 double scale)
+      : model_(model), w_(w), h_(h), scale_(scale) {
+    set_num_residuals(static_cast<int>(2 * w_.size()));
+    mutable_parameter_block_sizes()->push_back(model_.parameters());
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const double* theta = parameters[0];
+    const int np = model_.parameters();
+    const bool want_j = jacobians != nullptr && jacobians[0] != nullptr;
+    std::vector<std::complex<double>> J_h_theta(static_cast<size_t>(np));
+    for (Eigen::Index k = 0; k < w_.size(); ++k) {
+      const std::complex<double> r =
+          (model_.evaluate(theta, w_[k], want_j ? J_h_theta.data() : nullptr) - h_[k]) / scale_;
+      residuals[2 * k] = r.real();
+      residuals[2 * k + 1] = r.imag();
+      if (!want_j) continue;
+      double* row_re = jacobians[0] + (2 * k) * np;
+      double* row_im = row_re + np;
+      for (int p = 0; p < np; ++p) {
+        row_re[p] = J_h_theta[static_cast<size_t>(p)].real() / scale_;
+        row_im[p] = J_h_theta[static_cast<size_t>(p)].imag() / scale_;
+      }
+    }
+    return true;
+  }
+
+ private:
+  const ModalModel& model_;
+  const Eigen::VectorXd& w_;
+  const Eigen::VectorXcd& h_;
+  double scale_;
+};
+
+struct BandData {
+  std::vector<Eigen::Index> bins;
+  Eigen::VectorXd w;   // rad/s
+  Eigen::VectorXcd h;  // measured receptance
+  double scale = 0.0;  // max |h|
+  double w_lo = 0.0;
+  double w_hi = 0.0;
+};
+
+struct Solved {
+  bool converged = false;
+  std::string message;
+  ModalModel model;
+  std::vector<double> theta;
+  int iterations = 0;
+  std::vector<size_t> at_bounds;  // modes whose wn or zeta ended on a bound
+};
+
+// Levenberg-Marquardt from peak picking (modal_model.h gives the parameters).
+Solved solve(const std::vector<FrfPeak>& peaks, const BandData& band, double df,
+             const ModalFitOptions& o) {
+  Solved s;
+  const int n = static_cast<int>(peaks.size());
+  s.model.wn0.resize(n);
+  s.model.zeta0.resize(n);
+  s.model.a0.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const FrfPeak& p = peaks[static_cast<size_t>(i)];
+    // Half-power bandwidth, floored at half a bin: a narrower peak is not resolved.
+    const double bw = std::max(p.half_power_bw_hz, 0.5 * df);
+    const double wn = kTwoPi * p.f_hz;
+    const double zeta = std::clamp(bw / (2.0 * p.f_hz), 2.0 * kZetaMin, 0.5 * kZetaMax);
+    // |H(wn)| = |A| / (2 zeta wn^2) with phase -90 deg for A > 0 (003 eq. 4-27).
+    const double sign = p.value.imag() <= 0.0 ? 1.0 : -1.0;
+    s.model.wn0[i] = wn;
+    s.model.zeta0[i] = zeta;
+    s.model.a0[i] = sign * p.magnitude * 2.0 * zeta * wn * wn;
+  }
+  s.model.residual_scale = o.residual_terms ? band.scale : 0.0;
+  s.model.w_ref = band.w_lo;
+  s.theta.assign(static_cast<size_t>(s.model.parameters()), 0.0);
+  for (int i = 0; i < n; ++i) s.theta[static_cast<size_t>(3 * i + 2)] = 1.0;
+
+  ceres::Problem problem;
+  problem.AddResidualBlock(new ReceptanceCost(s.model, band.w, band.h, band.scale), nullptr,
+                           s.theta.data());
+  for (int i = 0; i < n; ++i) {
+    problem.SetParameterLowerBound(s.theta.data(), 3 * i, std::log(band.w_lo / s.model.wn0[i]));
+    problem.SetParameterUpperBound(s.theta.data(), 3 * i, std::log(band.w_hi / s.model.wn0[i]));
+    problem.SetParameterLowerBound(s.theta.data(), 3 * i + 1,
+                                   std::log(kZetaMin / s.model.zeta0[i]));
+    problem.SetParameterUpperBound(s.theta.data(), 3 * i + 1,
+                                   std::log(kZetaMax / s.model.zeta0[i]));
+  }
+  ceres::Solver::Options options;
+  options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.max_num_iterations = o.max_iterations;
+  options.function_tolerance = 1e-12;
+  options.parameter_tolerance = 1e-12;
+  options.gradient_tolerance = 1e-14;
+  options.logging_type = ceres::SILENT;
+  options.num_threads = 1;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  s.iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
+  s.converged = summary.termination_type == ceres::CONVERGENCE;
+  s.message = summary.message;
+  for (int i = 0; i < n; ++i) {
+    const double wn = s.model.wn(s.theta.data(), i);
+    const double zeta = s.model.zeta(s.theta.data(), i);
+    if (wn <= band.w_lo * (1.0 + kAtBound) || wn >= band.w_hi * (1.0 - kAtBound) ||
+        zeta <= kZetaMin * (1.0 + kAtBound) || zeta >= kZetaMax * (1.0 - kAtBound)) {
+      s.at_bounds.push_back(static_cast<size_t>(i));
+    }
+  }
+  return s;
+}
+
+void check_options(const ModalFitOptions& o) {
+  auto require = [](bool ok, const std::string& what) {
+    if (!ok) throw InputError("modal_fit." + what);
+  };
+  require(o.n_modes >= 0, "n_modes = " + std::to_string(o.n_modes) + ": must be >= 0 (0 = auto)");
+  require(o.max_modes >= 1, "max_modes = " + std::to_string(o.max_modes) + ": must be >= 1");
+  require(o.min_frequency_hz >= 0.0,
+          "min_frequency_hz = " + std::to_string(o.min_frequency_hz) + ": must be >= 0");
+  require(o.min_coherence >= 0.0 && o.min_coherence <= 1.0,
+          "min_coherence = " + std::to_string(o.min_coherence) + ": must be in [0, 1]");
+  require(o.min_prominence_db >= 0.0,
+          "min_prominence_db = " + std::to_string(o.min_prominence_db) + ": must be >= 0");
+  require(o.band_dominance_db >= 0.0,
+          "band_dominance_db = " + std::to_string(o.band_dominance_db) + ": must be >= 0");
+  require(o.mode_floor_db >= 0.0,
+          "mode_floor_db = " + std::to_string(o.mode_floor_db) + ": must be >= 0");
+  require(
+      o.resolution_warning_bins >= 0.0,
+      "resolution_warning_bins = " + std::to_string(o.resolution_warning_bins) + ": must be >= 0");
+  require(o.max_iterations >= 1,
+          "max_iterations = " + std::to_string(o.max_iterations) + ": must be >= 1");
+}
+
+}  // namespace
+
+ModalFit fit_modes(const Frf& frf, const ModalFitOptions& o) {
+  check_options(o);
+  ModalFit fit;
+  if (!frf.summary.ok) {
+    fit.summary.fail("no modal fit: the FRF failed (" + frf.summary.message + ")");
+    return fit;
+  }
+  const Eigen::Index nb = frf.f_hz.size();
+  if (nb < 8 || frf.coherence.size() != nb || frf.h1.size() != nb || frf.h2.size() != nb) {
+    fit.summary.fail("no modal fit: the FRF has " + std::to_string(nb) +
+                     " bins (or inconsistent sizes): needs at least 8");
+    return fit;
+  }
+  const Eigen::VectorXcd& h = o.estimator == FrfEstimator::kH1 ? frf.h1 : frf.h2;
+  const double f_last = frf.f_hz[nb - 1];
+
+  PeakOptions peak_options;
+  peak_options.min_prominence_db = o.min_prominence_db;
+  peak_options.min_coherence = o.min_coherence;
+  peak_options.f_min_hz = o.min_frequency_hz;
+  const std::vector<FrfPeak> peaks = find_frf_peaks(frf.f_hz, h, frf.coherence, peak_options);
+  const std::string peak_rule = fmt("coherence >= %g and prominence >= %g dB above %g Hz",
+                                    o.min_coherence, o.min_prominence_db, o.min_frequency_hz);
+
+  std::array<double, 2> band_hz{};
+  if (o.band_hz) {
+    band_hz = *o.band_hz;
+    if (!(band_hz[0] > 0.0 && band_hz[1] > band_hz[0] && band_hz[0] < f_last)) {
+      throw InputError(
+          fmt("modal_fit.band_hz = [%g, %g]: must satisfy 0 < lo < hi and lo < %g Hz "
+              "(the last FRF bin)",
+              band_hz[0], band_hz[1], f_last));
+    }
+    band_hz[1] = std::min(band_hz[1], f_last);
+  } else if (peaks.empty()) {
+    fit.summary.fail("no resonance peak with " + peak_rule + ": cannot choose a fit band");
+    return fit;
+  } else {
+    band_hz = auto_fit_band(frf.f_hz, h.cwiseAbs(), frf.coherence, peaks, o.band_dominance_db,
+                            o.min_frequency_hz, o.min_coherence);
+  }
+  fit.band_lo_hz = band_hz[0];
+  fit.band_hi_hz = band_hz[1];
+
+  std::vector<FrfPeak> chosen =
+      peaks_to_fit(peaks, band_hz, o.n_modes, o.mode_floor_db, o.max_modes, &fit.summary.warnings);
+  const std::string in_band = fmt(" in the band [%.6g, %.6g] Hz", band_hz[0], band_hz[1]);
+  if (o.n_modes > 0 && static_cast<int>(chosen.size()) < o.n_modes) {
+    fit.summary.fail("modal_fit.n_modes = " + std::to_string(o.n_modes) + " but only " +
+                     std::to_string(chosen.size()) + " peaks with " + peak_rule + " lie" + in_band);
+    return fit;
+  }
+  if (chosen.empty()) {
+    fit.summary.fail("no resonance peak with " + peak_rule + in_band);
+    return fit;
+  }
+
+  BandData band;
+  for (Eigen::Index k = 0; k < nb; ++k) {
+    if (frf.f_hz[k] >= band_hz[0] && frf.f_hz[k] <= band_hz[1]) band.bins.push_back(k);
+  }
+  const auto n_band = static_cast<Eigen::Index>(band.bins.size());
+  band.w.resize(n_band);
+  band.h.resize(n_band);
+  for (Eigen::Index k = 0; k < n_band; ++k) {
+    band.w[k] = kTwoPi * frf.f_hz[band.bins[static_cast<size_t>(k)]];
+    band.h[k] = h[band.bins[static_cast<size_t>(k)]];
+    band.scale = std::max(band.scale, std::abs(band.h[k]));
+  }
+  band.w_lo = kTwoPi * band_hz[0];
+  band.w_hi = kTwoPi * band_hz[1];
+  const int n_params = 3 * static_cast<int>(chosen.size()) + (o.residual_terms ? 2 : 0);
+  if (n_band < n_params || !(band.scale > 0.0)) {
+    fit.summary.fail(fmt("the band holds %g bins: too few for %g parameters",
+                         static_cast<double>(n_band), static_cast<double>(n_params)) +
+                     in_band);
+    return fit;
+  }
+
+  // Automatic count: a candidate the fit pushes onto a bound of wn or zeta is not a
+  // resonance the data support; drop it and fit again.
+  Solved s = solve(chosen, band, frf.df_hz, o);
+  while (o.n_modes == 0 && s.converged && !s.at_bounds.empty() &&
+         s.at_bounds.size() < chosen.size()) {
+    for (auto it = s.at_bounds.rbegin(); it != s.at_bounds.rend(); ++it) {
+      fit.summary.warnings.push_back(
+          fmt("peak at %.6g Hz dropped: the fit moved it onto a bound of its frequency or damping",
+              chosen[*it].f_hz));
+      chosen.erase(chosen.begin() + static_cast<long>(*it));
+    }
+    s = solve(chosen, band, frf.df_hz, o);
+  }
+  fit.iterations = s.iterations;
+  const int n_modes = s.model.modes();
+  if (!s.converged) {
+    fit.summary.fail(
+        fmt("modal fit of %g modes", n_modes) + in_band +
+        fmt(" did not converge within modal_fit.max_iterations = %g: ", o.max_iterations) +
+        s.message);
+    return fit;
+  }
+
+  // Model on every bin, and the fit over the band (004 eq. 3.2).
+  fit.fitted.resize(nb);
+  for (Eigen::Index k = 0; k < nb; ++k) {
+    fit.fitted[k] = s.model.evaluate(s.theta.data(), kTwoPi * frf.f_hz[k]);
+  }
+  Eigen::VectorXcd fitted_band(n_band);
+  for (Eigen::Index k = 0; k < n_band; ++k) {
+    fitted_band[k] = fit.fitted[band.bins[static_cast<size_t>(k)]];
+  }
+  fit.fit_nrmse_pct = metrics::nrmse_fit_pct(band.h, fitted_band);
+  if (o.residual_terms) {
+    const double r_upper = s.theta[static_cast<size_t>(3 * n_modes)];
+    const double r_lower = s.theta[static_cast<size_t>(3 * n_modes + 1)];
+    fit.upper_residual_m_n = band.scale * r_upper;
+    fit.lower_residual_per_kg = band.scale * r_lower * band.w_lo * band.w_lo;
+  }
+
+  // Physical modes, exponential window removed (windows.h), m = 1/A (003 eq. 4-27).
+  for (int i = 0; i < n_modes; ++i) {
+    const double fn_fit = s.model.wn(s.theta.data(), i) / kTwoPi;
+    const double zeta_fit = s.model.zeta(s.theta.data(), i);
+    const double a = s.model.a(s.theta.data(), i);
+    const PoleShift pole = undo_exponential_window(fn_fit, zeta_fit, frf.exp_window_tau_s);
+    if (!(pole.zeta > 0.0)) {
+      fit.summary.fail(
+          fmt("mode at %.6g Hz: damping ratio %.4g after removing the exponential "
+              "window (fitted %.4g, window 1/(tau wn) = %.4g) is not positive: the "
+              "window is too strong for this mode",
+              fn_fit, pole.zeta, zeta_fit, 1.0 / (frf.exp_window_tau_s * kTwoPi * fn_fit)));
+      return fit;
+    }
+    if (std::find(s.at_bounds.begin(), s.at_bounds.end(), static_cast<size_t>(i)) !=
+        s.at_bounds.end()) {
+      fit.summary.warnings.push_back(
+          fmt("mode at %.6g Hz (zeta %.4g) ended on a bound of its frequency (the band) or damping "
+              "[%g, %g]: treat it with suspicion",
+              fn_fit, zeta_fit, kZetaMin, kZetaMax));
+    }
+    if (a < 0.0) {
+      fit.summary.warnings.push_back(
+          fmt("mode at %.6g Hz has a negative modal constant (phase +90 deg at resonance): not "
+              "a driving-point FRF or a channel sign is inverted; m, c, k use |A|",
+              fn_fit));
+    }
+    fit.modes.push_back(mode_from_modal(pole.fn_hz, pole.zeta, 1.0 / std::abs(a)));
+  }
+  std::sort(fit.modes.begin(), fit.modes.end(),
+            [](const Mode& x, const Mode& y) { return x.fn_hz < y.fn_hz; });
+  for (const Mode& m : fit.modes) {
+    const double bw = 2.0 * m.zeta * m.fn_hz;
+    if (bw < o.resolution_warning_bins * frf.df_hz) {
+      fit.summary.warnings.push_back(
+          fmt("mode at %.6g Hz: damping is resolution-limited: half-power bandwidth 2 zeta fn = "
+              "%.3g Hz is below %g df = %.3g Hz",
+              m.fn_hz, bw, o.resolution_warning_bins, o.resolution_warning_bins * frf.df_hz) +
+          fmt(" (zeta = %.3g is an estimate from about %.2g bins)", m.zeta, bw / frf.df_hz));
+    }
+  }
+  if (fit.fit_nrmse_pct < 80.0) {
+    fit.summary.warnings.push_back(
+        fmt("poor fit: NRMSE fit %.1f %% over the band (below 80 %%)", fit.fit_nrmse_pct));
+  }
+  fit.summary.succeed();
+  return fit;
+}
+
+}  // namespace frf
+}  // namespace chatterlab
