@@ -9,7 +9,7 @@ PACKAGES=(
   nlohmann-json3-dev libkainjow-mustache-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox libosmesa6-dev
-  weasyprint poppler-utils fonts-dejavu-core
+  libssl-dev weasyprint poppler-utils fonts-dejavu-core
 )
 
 missing=()

@@ -1,0 +1,65 @@
+// Runs every test of a campaign through the steps of its kind (DESIGN.md data flow), in
+// parallel, each test isolated: a test that fails is skipped with its reason and never stops
+// the others. A report never shows a number from a step that failed.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "analysis/common/summary.h"
+#include "analysis/cutting/dyno_options.h"
+#include "analysis/cutting/dyno_slot.h"
+#include "analysis/cutting/slot_fit.h"
+#include "app/campaign.h"
+#include "app/tap_step.h"
+
+namespace chatterlab::app {
+
+struct PipelineOptions {
+  int jobs = 0;  // worker threads; 0: one per hardware thread
+  cutting::DynoOptions dyno;
+  TapStepOptions tap;
+};
+
+struct DynoRecordOutcome {
+  double feed_per_tooth_m = 0, axial_depth_m = 0, spindle_rpm = 0;
+  cutting::SlotRecordResult result;
+};
+
+struct TestOutcome {
+  const TestSpec* spec = nullptr;  // points into CampaignResults::campaign.tests
+  // ok: analysed. Otherwise the test was skipped and message says why.
+  StepSummary status;
+  std::vector<std::string> warnings;
+  double runtime_s = 0;
+  std::optional<TapOutcome> tap;
+  std::optional<DynoRecordOutcome> dyno;
+};
+
+struct DynoGroupOutcome {
+  StepSummary summary;  // ok only when the coefficient fit succeeded
+  std::vector<std::string> test_ids;
+  cutting::SlotCoefficients fit;
+};
+
+struct InputFile {
+  std::string relative_path;
+  std::uintmax_t bytes = 0;
+  std::string sha256;
+};
+
+struct CampaignResults {
+  CampaignSpec campaign;
+  PipelineOptions options;
+  std::vector<TestOutcome> tests;  // same order as campaign.tests
+  std::optional<DynoGroupOutcome> dyno_group;
+  std::vector<InputFile> inputs;  // every yaml and signal file read
+  double runtime_s = 0;
+};
+
+// Loads nothing: takes a loaded campaign. Never throws for bad test content.
+CampaignResults run_campaign(CampaignSpec campaign, const PipelineOptions& options);
+
+}  // namespace chatterlab::app

@@ -1,0 +1,278 @@
+#include "app/report.h"
+
+#include <chrono>
+#include <cmath>
+#include <complex>
+#include <ctime>
+#include <fstream>
+#include <future>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "app/format.h"
+#include "app/report_figures.h"
+#include "app/results_json.h"
+#include "app/truth.h"
+#include "render/html_to_pdf.h"
+#include "render/mustache_template.h"
+#include "render/render_error.h"
+
+namespace chatterlab::app {
+
+using nlohmann::json;
+
+namespace {
+
+constexpr double kRadToDeg = 57.29577951308232;
+
+std::string utc_now() {
+  const std::time_t t = std::time(nullptr);
+  char buf[32];
+  std::strftime(buf, sizeof(buf), "%Y-%m-%d %H:%M UTC", std::gmtime(&t));
+  return buf;
+}
+
+std::string kind_note(const TestOutcome& t) {
+  if (!t.status.ok) return "";
+  if (t.tap) {
+    if (!t.tap->fit_ok) return "FRF only; fit failed";
+    std::string s = std::to_string(t.tap->modes.size()) + " mode(s), first at " +
+                    fmt_sig(t.tap->modes.front().fn_hz, 4) + " Hz";
+    return s;
+  }
+  if (t.dyno) return "theta_dyn " + fmt_fixed(t.dyno->result.theta_dyn_rad * kRadToDeg, 2) + " deg";
+  return "";
+}
+
+json tap_context(const TestOutcome& t, const std::string& figure) {
+  const TapOutcome& tap = *t.tap;
+  json j;
+  j["id"] = t.spec->id;
+  j["axis"] = t.spec->tap->axis;
+  j["response"] = t.spec->tap->response;
+  j["hits_used"] = tap.hits_used;
+  j["hits_total"] = tap.hits.size();
+  j["df_hz"] = fmt_sig(tap.df_hz, 3);
+  if (std::isfinite(tap.exp_window_tau_s)) j["exp_tau_ms"] = fmt_sig(tap.exp_window_tau_s * 1e3, 3);
+  j["band_lo_hz"] = fmt_sig(tap.band_lo_hz, 4);
+  j["band_hi_hz"] = fmt_sig(tap.band_hi_hz, 4);
+  json rejected = json::array();
+  for (const auto& h : tap.hits) {
+    if (!h.accepted) rejected.push_back({{"t_s", fmt_fixed(h.time_s, 3)}, {"reason", h.reason}});
+  }
+  j["has_rejected"] = !rejected.empty();
+  j["rejected"] = rejected;
+  j["has_warnings"] = !t.warnings.empty();
+  j["warnings"] = t.warnings;
+  j["figure"] = figure;
+  j["fit_ok"] = tap.fit_ok;
+  j["fit_message"] = tap.fit_message;
+  j["fit_nrmse_pct"] = fmt_fixed(tap.fit_nrmse_pct, 1);
+  json modes = json::array();
+  int n = 0;
+  for (const auto& m : tap.modes) {
+    modes.push_back({{"n", ++n},
+                     {"fn_hz", fmt_sig(m.fn_hz, 5)},
+                     {"zeta_pct", fmt_sig(100 * m.zeta, 3)},
+                     {"m_kg", fmt_sig(m.m_kg, 4)},
+                     {"c_kg_s", fmt_sig(m.c_kg_s, 4)},
+                     {"k_N_m", fmt_sig(m.k_N_m, 4)}});
+  }
+  j["modes"] = modes;
+  return j;
+}
+
+json dyno_context(const CampaignResults& r, const std::string& figure) {
+  json d;
+  json records = json::array();
+  for (const auto& t : r.tests) {
+    if (!t.dyno) continue;
+    const auto& res = t.dyno->result;
+    records.push_back({{"id", t.spec->id},
+                       {"feed_mm", fmt_sig(t.dyno->feed_per_tooth_m * 1e3, 3)},
+                       {"depth_mm", fmt_sig(t.dyno->axial_depth_m * 1e3, 3)},
+                       {"rpm", fmt_sig(t.dyno->spindle_rpm, 5)},
+                       {"revolutions", res.revolutions},
+                       {"theta_dyn_deg", fmt_fixed(res.theta_dyn_rad * kRadToDeg, 2)},
+                       {"mean_Ft_N", fmt_sig(res.mean_Ft_N, 4)},
+                       {"mean_Fr_N", fmt_sig(res.mean_Fr_N, 4)}});
+  }
+  d["has_records"] = !records.empty();
+  d["records"] = records;
+  const auto& g = *r.dyno_group;
+  d["fit_ok"] = g.summary.ok;
+  d["fit_message"] = g.summary.message;
+  d["figure"] = figure;
+  const auto& k = g.fit.coefficients;
+  d["Ktc_e8"] = fmt_fixed(k.Ktc_N_per_m2 / 1e8, 2);
+  d["Kte_e3"] = fmt_sig(k.Kte_N_per_m / 1e3, 3);
+  d["Krc_e8"] = fmt_fixed(k.Krc_N_per_m2 / 1e8, 2);
+  d["Kre_e3"] = fmt_sig(k.Kre_N_per_m / 1e3, 3);
+  d["rms_t_N"] = fmt_sig(g.fit.tangential.rms_residual_N, 3);
+  d["rms_r_N"] = fmt_sig(g.fit.radial.rms_residual_N, 3);
+  d["r2_t"] = fmt_fixed(g.fit.tangential.r_squared, 4);
+  d["r2_r"] = fmt_fixed(g.fit.radial.r_squared, 4);
+  std::string tool = r.campaign.workpiece.empty() ? std::string("workpiece not given")
+                                                  : r.campaign.workpiece;
+  if (r.campaign.tool) {
+    tool += " / " + std::to_string(r.campaign.tool->teeth) + "-tooth, r = " +
+            fmt_sig(r.campaign.tool->radius_m * 1e3, 3) + " mm";
+    if (r.campaign.tool->helix_deg) tool += ", " + fmt_sig(*r.campaign.tool->helix_deg, 3) + "-deg helix";
+  }
+  d["tool_label"] = tool;
+  d["convention_note"] =
+      g.fit.mean_force_model == cutting::SlotMeanForceModel::kSingleToothChip
+          ? "Coefficients use mean |F| = (2/\u03c0) b K<sub>c</sub> h + b K<sub>e</sub>, which agrees "
+            "with the force model of eqs 3.3\u20133.4 (one tooth cutting a chip h sin \u03b8 at a "
+            "time); 000 eq. 3.5 as printed gives half these K<sub>tc</sub>, K<sub>rc</sub> "
+            "(docs/dyno-coefficients.md)."
+          : "Coefficients use 000 eqs 3.5 and 3.9\u20133.12 as printed (mean |F| = (4/\u03c0) b "
+            "K<sub>c</sub> h + b K<sub>e</sub>); the force model of eqs 3.3\u20133.4 implies twice "
+            "these K<sub>tc</sub>, K<sub>rc</sub> (docs/dyno-coefficients.md).";
+  return d;
+}
+
+}  // namespace
+
+std::filesystem::path templates_dir() {
+  if (const char* env = std::getenv("CHATTERLAB_TEMPLATES"); env && *env) return env;
+  std::error_code ec;
+  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    for (const auto& cand : {exe.parent_path().parent_path() / "templates",
+                             exe.parent_path().parent_path().parent_path() / "templates"}) {
+      if (std::filesystem::exists(cand / "report.html")) return cand;
+    }
+  }
+  return std::filesystem::path(CHATTERLAB_SOURCE_DIR) / "templates";
+}
+
+int run_report(const std::filesystem::path& campaign_dir, const std::filesystem::path& out,
+               const ReportOptions& options, std::ostream& log) {
+  const auto t0 = std::chrono::steady_clock::now();
+  CampaignSpec spec = load_campaign(campaign_dir);
+  if (!std::filesystem::exists(spec.root / "campaign.yaml") || !std::filesystem::is_directory(spec.root)) {
+    for (const auto& e : spec.errors) log << "chatterlab report: " << e << "\n";
+    return 1;
+  }
+  PipelineOptions popt;
+  popt.jobs = options.jobs;
+  CampaignResults r = run_campaign(std::move(spec), popt);
+  const TruthComparison truth = compare_with_truth(r);
+
+  std::filesystem::create_directories(out / "figures");
+  const FigureSet figures = render_report_figures(r, out, options.jobs);
+
+  json ctx;
+  const auto& c = r.campaign;
+  ctx["campaign"] = {{"name", c.name.empty() ? c.root.filename().string() : c.name},
+                     {"description", c.description},
+                     {"workpiece", c.workpiece},
+                     {"machine", c.machine},
+                     {"root", c.root.string()}};
+  if (c.tool) {
+    json tool = {{"teeth", c.tool->teeth}, {"radius_mm", fmt_sig(c.tool->radius_m * 1e3, 4)}};
+    if (c.tool->helix_deg) tool["helix_deg"] = fmt_sig(*c.tool->helix_deg, 3);
+    ctx["campaign"]["tool"] = tool;
+  }
+  ctx["generated_utc"] = utc_now();
+  ctx["version"] = CHATTERLAB_VERSION;
+  json tests = json::array(), skipped = json::array(), taps = json::array();
+  std::vector<std::string> warnings = c.errors;
+  warnings.insert(warnings.end(), c.warnings.begin(), c.warnings.end());
+  warnings.insert(warnings.end(), truth.warnings.begin(), truth.warnings.end());
+  warnings.insert(warnings.end(), figures.errors.begin(), figures.errors.end());
+  int ok = 0;
+  for (const auto& t : r.tests) {
+    const std::string id = t.spec->id.empty() ? "." : t.spec->id;
+    tests.push_back({{"id", id},
+                     {"kind", t.spec->kind.empty() ? "?" : t.spec->kind},
+                     {"status", t.status.ok ? "ok" : "skipped"},
+                     {"note", kind_note(t)}});
+    if (t.status.ok) {
+      ++ok;
+    } else {
+      skipped.push_back({{"id", id}, {"reason", t.status.message}});
+    }
+    if (t.status.ok && t.tap) taps.push_back(tap_context(t, figures.of(t.spec->id)));
+    if (t.status.ok && !t.tap) {
+      for (const auto& w : t.warnings) warnings.push_back(id + ": " + w);
+    }
+  }
+  ctx["tests"] = tests;
+  ctx["skipped"] = skipped;
+  ctx["summary"] = {{"tests_found", r.tests.size()}, {"tests_ok", ok},
+                    {"tests_skipped", r.tests.size() - static_cast<std::size_t>(ok)}};
+  ctx["has_tap"] = !taps.empty();
+  ctx["tap_tests"] = taps;
+  ctx["has_dyno"] = r.dyno_group.has_value();
+  if (r.dyno_group) {
+    ctx["dyno"] = dyno_context(r, figures.dyno);
+    if (!r.dyno_group->summary.warnings.empty()) {
+      for (const auto& w : r.dyno_group->summary.warnings) warnings.push_back("dyno-slot group: " + w);
+    }
+  }
+  ctx["has_skipped"] = !skipped.empty();
+  ctx["has_warnings"] = !warnings.empty();
+  ctx["warnings"] = warnings;
+  json truth_rows = json::array();
+  for (const auto& row : truth.rows) {
+    truth_rows.push_back({{"quantity", row.quantity}, {"source", row.source},
+                          {"truth", fmt_sig(row.truth, 5)}, {"estimate", fmt_sig(row.estimate, 5)},
+                          {"error_pct", fmt_fixed(row.error_pct, 2)}});
+  }
+  ctx["truth"] = {{"present", truth.present && !truth.rows.empty()}, {"rows", truth_rows}};
+  json inputs = json::array();
+  for (const auto& f : r.inputs) {
+    inputs.push_back({{"file", f.relative_path}, {"bytes", f.bytes}, {"sha256", f.sha256}});
+  }
+  const double runtime = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ctx["provenance"] = {
+      {"inputs", inputs},
+      {"runtime_s", fmt_sig(runtime, 3)},
+      {"settings",
+       json::array({{{"key", "dynamometer mean-force model"},
+                     {"value", popt.dyno.mean_force_model ==
+                                       cutting::SlotMeanForceModel::kSingleToothChip
+                                   ? "single-tooth chip (2/pi), default"
+                                   : "000 eq. 3.5 as printed (4/pi)"}},
+                    {{"key", "zero-count threshold (default, V)"},
+                     {"value", fmt_sig(popt.dyno.zero_threshold_V, 3)}},
+                    {{"key", "speed tolerance of pulse spacing"},
+                     {"value", fmt_sig(100 * popt.dyno.rpm_tolerance, 3) + " %"}},
+                    {{"key", "worker threads"}, {"value", std::to_string(options.jobs)}}})}};
+
+  // results.json first: it must exist even if the PDF step fails.
+  {
+    std::ofstream js(out / "results.json");
+    js << results_json(r, truth).dump(2) << "\n";
+  }
+  const auto tdir = templates_dir();
+  std::filesystem::copy_file(tdir / "report.css", out / "report.css",
+                             std::filesystem::copy_options::overwrite_existing);
+  {
+    std::ofstream html(out / "index.html");
+    html << render::render_template_file(tdir / "report.html", ctx);
+  }
+  int rc = 0;
+  bool pdf_written = false;
+  if (options.pdf) {
+    try {
+      for (const auto& w : render::html_to_pdf(out / "index.html", out / "report.pdf")) {
+        log << "  weasyprint: " << w << "\n";
+      }
+      pdf_written = true;
+    } catch (const render::RenderError& e) {
+      log << "chatterlab report: PDF not written: " << e.what() << "\n";
+      rc = 1;
+    }
+  }
+  const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  log << "report: " << r.tests.size() << " tests, " << ok << " analysed, "
+      << r.tests.size() - static_cast<std::size_t>(ok) << " skipped; wrote " << (out / "index.html").string()
+      << (pdf_written ? ", report.pdf" : "") << ", results.json in " << fmt_sig(total, 3) << " s\n";
+  for (const auto& s : skipped) log << "  skipped " << s["id"].get<std::string>() << ": " << s["reason"].get<std::string>() << "\n";
+  return rc;
+}
+
+}  // namespace chatterlab::app

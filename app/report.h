@@ -1,0 +1,26 @@
+// `chatterlab report <campaign> --out <dir>`: runs the campaign and writes index.html,
+// report.pdf, results.json and figures/ (EXPERIMENT_FORMAT.md section 2).
+#pragma once
+
+#include <filesystem>
+#include <ostream>
+
+#include "app/pipeline.h"
+
+namespace chatterlab::app {
+
+struct ReportOptions {
+  bool pdf = true;  // also write report.pdf through WeasyPrint
+  int jobs = 0;     // worker threads for tests and figures; 0: one per hardware thread
+};
+
+// Returns the process exit code: 0 when the report was written (skipped tests included),
+// 1 when the campaign could not be read at all.
+int run_report(const std::filesystem::path& campaign, const std::filesystem::path& out,
+               const ReportOptions& options, std::ostream& log);
+
+// Folder holding report.html and report.css: $CHATTERLAB_TEMPLATES, else templates/ beside
+// the executable's parent folder, else the source tree's templates/.
+std::filesystem::path templates_dir();
+
+}  // namespace chatterlab::app

@@ -1,0 +1,32 @@
+// The report's figures, drawn through render/ (gnuplot backend) in parallel.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "app/pipeline.h"
+#include "render/figure.h"
+
+namespace chatterlab::app {
+
+struct FigureSet {
+  std::map<std::string, std::string> tap;  // test id -> stem relative to the report folder
+                                           // (stem.svg on screen, stem.png in print)
+  std::string dyno;                        // stem, empty when not drawn
+  std::vector<std::string> errors;         // figures that could not be drawn
+  std::string of(const std::string& id) const {
+    const auto it = tap.find(id);
+    return it == tap.end() ? std::string() : it->second;
+  }
+};
+
+// Figure models (exposed for tests).
+render::Figure tap_frf_figure(const TestOutcome& t);
+render::Figure dyno_force_figure(const CampaignResults& r);
+
+FigureSet render_report_figures(const CampaignResults& r, const std::filesystem::path& out,
+                                int jobs);
+
+}  // namespace chatterlab::app

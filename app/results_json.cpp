@@ -1,0 +1,132 @@
+#include "app/results_json.h"
+
+#include <cmath>
+
+namespace chatterlab::app {
+
+using nlohmann::json;
+
+namespace {
+
+constexpr double kRadToDeg = 57.29577951308232;
+
+json tap_json(const TapOutcome& t) {
+  json j;
+  j["hits_used"] = t.hits_used;
+  json hits = json::array();
+  for (const auto& h : t.hits) {
+    json e = {{"time_s", h.time_s}, {"peak_force_N", h.peak_N}, {"accepted", h.accepted}};
+    if (!h.accepted) e["rejected_because"] = h.reason;
+    hits.push_back(e);
+  }
+  j["hits"] = hits;
+  j["frequency_resolution_hz"] = number_or_null(t.df_hz);
+  j["exp_window_tau_s"] = number_or_null(t.exp_window_tau_s);
+  if (t.fit_ok) {
+    json modes = json::array();
+    for (const auto& m : t.modes) {
+      modes.push_back({{"fn_hz", m.fn_hz}, {"zeta", m.zeta}, {"m_kg", m.m_kg},
+                       {"c_kg_s", m.c_kg_s}, {"k_N_m", m.k_N_m}});
+    }
+    j["modes"] = modes;
+    j["fit_nrmse_pct"] = number_or_null(t.fit_nrmse_pct);
+    j["fit_band_hz"] = {number_or_null(t.band_lo_hz), number_or_null(t.band_hi_hz)};
+  } else {
+    j["fit_status"] = "failed";
+    j["fit_message"] = t.fit_message;
+  }
+  return j;
+}
+
+json dyno_json(const DynoRecordOutcome& d) {
+  const auto& r = d.result;
+  return {{"feed_per_tooth_m", d.feed_per_tooth_m},
+          {"axial_depth_m", d.axial_depth_m},
+          {"spindle_rpm", d.spindle_rpm},
+          {"measured_rpm", number_or_null(r.measured_rpm)},
+          {"revolutions", r.revolutions},
+          {"theta_dyn_deg", number_or_null(r.theta_dyn_rad * kRadToDeg)},
+          {"mean_Ft_N", number_or_null(r.mean_Ft_N)},
+          {"mean_Fr_N", number_or_null(r.mean_Fr_N)},
+          {"spread_Ft_N", number_or_null(r.spread_Ft_N)},
+          {"spread_Fr_N", number_or_null(r.spread_Fr_N)},
+          {"offset_x_N", number_or_null(r.offset_x_N)},
+          {"offset_y_N", number_or_null(r.offset_y_N)},
+          {"switching_contrast", number_or_null(r.switching_contrast)}};
+}
+
+json line_json(const cutting::FittedLine& l) {
+  return {{"slope_N_m2", number_or_null(l.slope_N_per_m2)},
+          {"intercept_N_m", number_or_null(l.intercept_N_per_m)},
+          {"rms_residual_N", number_or_null(l.rms_residual_N)},
+          {"r_squared", number_or_null(l.r_squared)}};
+}
+
+}  // namespace
+
+json number_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
+json results_json(const CampaignResults& r, const TruthComparison& truth) {
+  json j;
+  j["format"] = "chatterlab-results/1";
+  j["campaign"] = r.campaign.name;
+  j["generator"] = {{"name", "chatterlab"}, {"version", CHATTERLAB_VERSION}};
+  json inputs = json::object();
+  for (const auto& f : r.inputs) inputs[f.relative_path] = f.sha256;
+  j["inputs_sha256"] = inputs;
+
+  json tests = json::object();
+  for (const auto& t : r.tests) {
+    json e;
+    e["kind"] = t.spec->kind;
+    e["status"] = t.status.ok ? "ok" : "skipped";
+    if (!t.status.ok) e["skip_reason"] = t.status.message;
+    if (!t.warnings.empty()) e["warnings"] = t.warnings;
+    e["runtime_s"] = t.runtime_s;
+    if (t.status.ok && t.tap) e.update(tap_json(*t.tap));
+    if (t.status.ok && t.dyno) e.update(dyno_json(*t.dyno));
+    tests[t.spec->id.empty() ? "." : t.spec->id] = e;
+  }
+  j["tests"] = tests;
+
+  json groups = json::object();
+  if (r.dyno_group) {
+    const auto& g = *r.dyno_group;
+    json d;
+    d["tests"] = g.test_ids;
+    if (g.summary.ok) {
+      const auto& k = g.fit.coefficients;
+      d["Ktc_N_m2"] = k.Ktc_N_per_m2;
+      d["Kte_N_m"] = k.Kte_N_per_m;
+      d["Krc_N_m2"] = k.Krc_N_per_m2;
+      d["Kre_N_m"] = k.Kre_N_per_m;
+      d["mean_force_model"] = g.fit.mean_force_model == cutting::SlotMeanForceModel::kSingleToothChip
+                                  ? "single-tooth-chip"
+                                  : "dissertation-eq-3.5";
+      d["tangential_fit"] = line_json(g.fit.tangential);
+      d["radial_fit"] = line_json(g.fit.radial);
+      if (!g.summary.warnings.empty()) d["warnings"] = g.summary.warnings;
+    } else {
+      d["status"] = "skipped";
+      d["skip_reason"] = g.summary.message;
+    }
+    groups["dyno-slot"] = d;
+  }
+  j["groups"] = groups;
+  // Filled by the cut-test identification sequence (000 sec. 5.1, 5.3) when cut tests are
+  // analysed; empty in this version (docs/results.md).
+  j["identified"] = json::object();
+
+  if (truth.present) {
+    json rows = json::array();
+    for (const auto& row : truth.rows) {
+      rows.push_back({{"quantity", row.quantity}, {"source", row.source}, {"truth", row.truth},
+                      {"estimate", row.estimate}, {"error_pct", row.error_pct}});
+    }
+    j["truth_comparison"] = rows;
+  }
+  j["runtime_s"] = r.runtime_s;
+  return j;
+}
+
+}  // namespace chatterlab::app

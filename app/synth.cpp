@@ -1,0 +1,180 @@
+#include "app/synth.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "analysis/common/summary.h"
+#include "analysis/cutting/slot_synth.h"
+#include "app/signals.h"
+#include "app/synth_tap.h"
+#include "app/yaml_reader.h"
+
+namespace chatterlab::app {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+void throw_if_errors(const YamlReader& r) {
+  if (r.errors().empty()) return;
+  std::string msg;
+  for (const auto& e : r.errors()) msg += (msg.empty() ? "" : "\n") + e;
+  throw InputError(msg);
+}
+
+void write_text(const std::filesystem::path& p, const std::string& text) {
+  std::filesystem::create_directories(p.parent_path());
+  std::ofstream out(p);
+  out << text;
+  if (!out) throw InputError(p.string() + ": cannot write");
+}
+
+std::string num(double v) {
+  std::ostringstream s;
+  s.precision(10);
+  s << v;
+  return s.str();
+}
+
+struct DynoSpec {
+  double rpm = 0, depth_m = 0, fs = 0, duration_s = 0, theta_dyn_deg = 0, noise_N = 0;
+  double sensitivity = 1.0;
+  std::pair<double, double> offsets{0, 0};
+  std::vector<double> feeds_m;
+  milling::CuttingCoefficients k;
+};
+
+DynoSpec read_dyno(const YAML::Node& n, YamlReader& r) {
+  DynoSpec d;
+  r.check_keys(n, {"spindle_rpm", "axial_depth_mm", "feeds_mm", "sample_rate_hz", "duration_s",
+                   "theta_dyn_deg", "sensitivity_V_per_N", "offsets_N", "noise_N", "coefficients"},
+               "dyno");
+  d.rpm = r.required_double(n, "spindle_rpm", "dyno");
+  d.depth_m = r.required_double(n, "axial_depth_mm", "dyno") * 1e-3;
+  d.fs = r.required_double(n, "sample_rate_hz", "dyno");
+  d.duration_s = r.required_double(n, "duration_s", "dyno");
+  d.theta_dyn_deg = r.optional_double(n, "theta_dyn_deg", "dyno").value_or(0.0);
+  d.noise_N = r.optional_double(n, "noise_N", "dyno").value_or(0.0);
+  d.sensitivity = r.optional_double(n, "sensitivity_V_per_N", "dyno").value_or(1.0);
+  if (!(d.sensitivity > 0)) r.error("dyno.sensitivity_V_per_N", "must be > 0");
+  d.offsets = r.optional_pair(n, "offsets_N", "dyno").value_or(std::make_pair(0.0, 0.0));
+  const YAML::Node feeds = n["feeds_mm"];
+  if (!feeds || !feeds.IsSequence() || feeds.size() < 2) {
+    r.error("dyno.feeds_mm", "must be a list of at least two feeds per tooth (mm)");
+  } else {
+    for (const auto& f : feeds) d.feeds_m.push_back(f.as<double>() * 1e-3);
+  }
+  const YAML::Node k = n["coefficients"];
+  if (!k || !k.IsMap()) {
+    r.error("dyno.coefficients", "must be {Ktc_N_m2, Kte_N_m, Krc_N_m2, Kre_N_m}");
+  } else {
+    d.k.Ktc_N_per_m2 = r.required_double(k, "Ktc_N_m2", "dyno.coefficients");
+    d.k.Kte_N_per_m = r.required_double(k, "Kte_N_m", "dyno.coefficients");
+    d.k.Krc_N_per_m2 = r.required_double(k, "Krc_N_m2", "dyno.coefficients");
+    d.k.Kre_N_per_m = r.required_double(k, "Kre_N_m", "dyno.coefficients");
+  }
+  return d;
+}
+
+// Writes one dyno-slot test per feed; returns the number written.
+int write_dyno_group(const DynoSpec& d, std::uint64_t seed, const std::filesystem::path& out,
+                     std::ostringstream& truth_tests) {
+  int written = 0;
+  for (std::size_t i = 0; i < d.feeds_m.size(); ++i) {
+    cutting::SlotRecordSpec s;
+    s.spindle_rpm = d.rpm;
+    s.feed_per_tooth_m = d.feeds_m[i];
+    s.depth_m = d.depth_m;
+    s.coefficients = d.k;
+    s.theta_dyn_rad = d.theta_dyn_deg * kPi / 180.0;
+    s.initial_tool_angle_rad = 0.7 + 0.9 * static_cast<double>(i);  // any phase at record start
+    s.offset_x_N = d.offsets.first;
+    s.offset_y_N = d.offsets.second;
+    s.noise_std_N = d.noise_N;
+    s.zero_noise_std_V = 0.02;
+    s.fs_hz = d.fs;
+    s.duration_s = d.duration_s;
+    s.seed = seed + 101 * (i + 1);
+    cutting::SlotRecord rec = cutting::generate_slot_record(s);
+    // Written in volts: the test's channel scale (1 / sensitivity) calibrates them back to N.
+    const Eigen::VectorXd fx_V = rec.Fx_N * d.sensitivity;
+    const Eigen::VectorXd fy_V = rec.Fy_N * d.sensitivity;
+    char name[32];
+    std::snprintf(name, sizeof(name), "f%03d", static_cast<int>(std::lround(d.feeds_m[i] * 1e6)));
+    const auto dir = out / "dyno" / name;
+    std::filesystem::create_directories(dir);
+    write_signals(dir / "forces.csv", {"Fx", "Fy", "zero"}, {&fx_V, &fy_V, &rec.zero_V});
+    std::ostringstream y;
+    y << "kind: dyno-slot\n"
+      << "spindle_rpm: " << num(d.rpm) << "\n"
+      << "feed_per_tooth_mm: " << num(d.feeds_m[i] * 1e3) << "\n"
+      << "axial_depth_mm: " << num(d.depth_m * 1e3) << "\n"
+      << "sample_rate_hz: " << num(d.fs) << "\n"
+      << "data: {file: forces.csv}\n"
+      << "channels:\n"
+      << "  Fx: {scale: " << num(1.0 / d.sensitivity) << "}\n"
+      << "  Fy: {scale: " << num(1.0 / d.sensitivity) << "}\n"
+      << "  zero: {threshold: 2.5}\n";
+    write_text(dir / "test.yaml", y.str());
+    ++written;
+  }
+  truth_tests << "  dyno/: {Ktc_N_m2: " << num(d.k.Ktc_N_per_m2) << ", Kte_N_m: " << num(d.k.Kte_N_per_m)
+              << ", Krc_N_m2: " << num(d.k.Krc_N_per_m2) << ", Kre_N_m: " << num(d.k.Kre_N_per_m)
+              << ", theta_dyn_deg: " << num(d.theta_dyn_deg) << "}\n";
+  return written;
+}
+
+}  // namespace
+
+SynthSummary synthesize_campaign(const std::filesystem::path& spec_yaml,
+                                 const std::filesystem::path& out_dir) {
+  const std::string label = spec_yaml.filename().string();
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(spec_yaml.string());
+  } catch (const YAML::Exception& e) {
+    throw InputError(label + ": cannot read (" + std::string(e.what()) + ")");
+  }
+  YamlReader r(label);
+  r.check_keys(root, {"format", "name", "description", "seed", "tool", "workpiece", "machine",
+                      "tap", "dyno"});
+  const auto format = r.required_string(root, "format");
+  if (!format.empty() && format != "chatterlab-synth/1") {
+    r.error("format", "'" + format + "': must be 'chatterlab-synth/1'");
+  }
+  SynthSummary summary;
+  summary.campaign_name = r.required_string(root, "name");
+  const auto seed = static_cast<std::uint64_t>(r.optional_double(root, "seed").value_or(1.0));
+  const YAML::Node tool = root["tool"];
+  if (root["dyno"] && !tool) r.error("tool", "is required when the spec has a dyno group");
+  std::optional<DynoSpec> dyno;
+  if (root["dyno"]) dyno = read_dyno(root["dyno"], r);
+  std::optional<TapSynthSpec> tap;
+  if (root["tap"]) tap = read_tap_synth(root["tap"], r);
+  throw_if_errors(r);
+
+  std::filesystem::create_directories(out_dir);
+  std::ostringstream campaign;
+  campaign << "format: chatterlab-campaign/1\nname: " << summary.campaign_name << "\n";
+  if (root["description"]) campaign << "description: >\n  " << root["description"].as<std::string>() << "\n";
+  if (tool) {
+    campaign << "tool: {teeth: " << tool["teeth"].as<int>()
+             << ", radius_mm: " << num(tool["radius_mm"].as<double>());
+    if (tool["helix_deg"]) campaign << ", helix_deg: " << num(tool["helix_deg"].as<double>());
+    campaign << "}\n";
+  }
+  if (root["workpiece"]) campaign << "workpiece: " << root["workpiece"].as<std::string>() << "\n";
+  if (root["machine"]) campaign << "machine: " << root["machine"].as<std::string>() << "\n";
+  write_text(out_dir / "campaign.yaml", campaign.str());
+
+  std::ostringstream truth_top, truth_tests;
+  if (tap) summary.tests_written += write_tap_tests(*tap, seed, out_dir, truth_top, truth_tests);
+  if (dyno) summary.tests_written += write_dyno_group(*dyno, seed, out_dir, truth_tests);
+  write_text(out_dir / "truth.yaml", "# Values used by chatterlab synth to write this campaign.\n" +
+                                         truth_top.str() + "tests:\n" + truth_tests.str());
+  return summary;
+}
+
+}  // namespace chatterlab::app

@@ -1,0 +1,49 @@
+// The tap-test step: hits -> H1/H2 + coherence -> modal fit (DESIGN.md data flow), with the
+// result copied into plain data for results.json and the report.
+#pragma once
+
+#include <Eigen/Core>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "analysis/common/summary.h"
+#include "analysis/frf/mode.h"
+#include "app/campaign.h"
+
+namespace chatterlab::app {
+
+struct TapStepOptions {
+  // Reserved for user overrides of the analysis defaults (docs/tap-tests.md).
+};
+
+struct TapHitInfo {
+  double time_s = 0;     // start of the hit's pulse
+  double peak_N = 0;
+  bool accepted = false;
+  std::string reason;    // why it was rejected
+};
+
+struct TapOutcome {
+  StepSummary summary;  // ok when the FRF exists (the fit may still have failed: fit_ok)
+  std::vector<std::string> warnings;
+  std::vector<TapHitInfo> hits;
+  int hits_used = 0;
+  Eigen::VectorXd f_hz;
+  Eigen::VectorXcd h1, h2;  // receptance, m/N
+  Eigen::VectorXd coherence;
+  double df_hz = std::numeric_limits<double>::quiet_NaN();
+  double exp_window_tau_s = std::numeric_limits<double>::quiet_NaN();  // NaN: none applied
+  bool fit_ok = false;
+  std::string fit_message = "not run";
+  std::vector<frf::Mode> modes;  // sorted by frequency; empty unless fit_ok
+  double fit_nrmse_pct = std::numeric_limits<double>::quiet_NaN();
+  double band_lo_hz = std::numeric_limits<double>::quiet_NaN();
+  double band_hi_hz = std::numeric_limits<double>::quiet_NaN();
+  Eigen::VectorXcd fitted;  // model receptance on f_hz (empty unless fit_ok)
+};
+
+// Runs the step on one tap test. Bad input throws InputError (the caller skips the test).
+TapOutcome run_tap_test(const TestSpec& t, const TapStepOptions& options);
+
+}  // namespace chatterlab::app

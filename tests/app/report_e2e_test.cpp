@@ -1,0 +1,208 @@
+// End to end: campaigns written by `synth` and by hand (as another tool would write them to
+// EXPERIMENT_FORMAT.md) through `report`, checked in results.json and index.html.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "analysis/cutting/slot_synth.h"
+#include "app/campaign.h"
+#include "app/report.h"
+#include "app/signals.h"
+#include "app/synth.h"
+#include "app/validate.h"
+#include "tests/support/temp_campaign.h"
+
+namespace chatterlab::app {
+namespace {
+
+using chatterlab::testing::kCampaignYaml;
+using chatterlab::testing::TempDir;
+using nlohmann::json;
+
+json read_json(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  return json::parse(in);
+}
+
+std::string read_text(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+double rel_err(double est, double truth) { return std::abs(est - truth) / std::abs(truth); }
+
+// The demo spec through synth and report: the numbers of the foundation issue.
+TEST(ReportEndToEnd, DemoCampaignRecoversTruth) {
+  TempDir d;
+  const auto campaign = d.path() / "demo";
+  const auto out = d.path() / "report";
+  synthesize_campaign(std::filesystem::path(CHATTERLAB_SOURCE_DIR) / "experiments/demo.synth.yaml",
+                      campaign);
+  std::ostringstream log;
+  ReportOptions opt;
+  opt.pdf = false;  // the PDF path has its own test below
+  ASSERT_EQ(run_report(campaign, out, opt, log), 0) << log.str();
+  const json r = read_json(out / "results.json");
+  EXPECT_EQ(r["format"], "chatterlab-results/1");
+  EXPECT_EQ(r["campaign"], "demo-al6061");
+
+  // Truth of experiments/demo.synth.yaml, mode 1 of x and y: m = 0.03134 kg, c = 22.21 kg/s,
+  // k = 9.84e5 N/m. Tolerances: the foundation issue's (fn 0.3 %, m and k 2 %, c 5 %).
+  const double m = 0.03134, c = 22.21, k = 9.84e5;
+  const double fn = std::sqrt(k / m) / (2 * M_PI);
+  for (const char* id : {"tap/x", "tap/y"}) {
+    const json& t = r["tests"][id];
+    ASSERT_EQ(t["status"], "ok") << id << ": " << t.dump();
+    ASSERT_GE(t["modes"].size(), 2u) << id;
+    const json& m1 = t["modes"][0];
+    EXPECT_LT(rel_err(m1["fn_hz"], fn), 0.003) << id;
+    EXPECT_LT(rel_err(m1["m_kg"], m), 0.02) << id;
+    EXPECT_LT(rel_err(m1["k_N_m"], k), 0.02) << id;
+    EXPECT_LT(rel_err(m1["c_kg_s"], c), 0.05) << id;
+  }
+  // Hit 3 of x bounces (demo spec): rejected and said so.
+  int rejected = 0;
+  for (const auto& h : r["tests"]["tap/x"]["hits"]) {
+    if (!h["accepted"].get<bool>()) {
+      ++rejected;
+      EXPECT_NE(h["rejected_because"].get<std::string>().find("double hit"), std::string::npos);
+    }
+  }
+  EXPECT_EQ(rejected, 1);
+  EXPECT_EQ(r["tests"]["tap/x"]["hits_used"], 4);
+
+  // Dyno group: appendix values of the spec; Ktc, Krc within 3 %, Kte, Kre within 15 %.
+  const json& g = r["groups"]["dyno-slot"];
+  ASSERT_TRUE(g.contains("Ktc_N_m2")) << g.dump();
+  EXPECT_LT(rel_err(g["Ktc_N_m2"], 5.89e8), 0.03);
+  EXPECT_LT(rel_err(g["Krc_N_m2"], 3.19e8), 0.03);
+  EXPECT_LT(rel_err(g["Kte_N_m"], 9080), 0.15);
+  EXPECT_LT(rel_err(g["Kre_N_m"], 11300), 0.15);
+  EXPECT_EQ(g["tests"].size(), 6u);
+
+  // Every input hashed; the truth comparison present.
+  EXPECT_EQ(r["inputs_sha256"].size(), 1u + 1u + 2u * 8u);  // campaign, truth, 8 tests x 2
+  EXPECT_GT(r["truth_comparison"].size(), 10u);
+  const std::string html = read_text(out / "index.html");
+  EXPECT_NE(html.find("Cutting-force coefficients"), std::string::npos);
+  EXPECT_NE(html.find("figures/tap-tap-x-frf.svg"), std::string::npos);
+  EXPECT_NE(html.find("figures/tap-tap-x-frf.png"), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(out / "figures/tap-tap-x-frf.png"));
+  EXPECT_TRUE(std::filesystem::exists(out / "figures/tap-tap-x-frf.svg"));
+  EXPECT_TRUE(std::filesystem::exists(out / "figures/dyno-force-vs-feed.svg"));
+}
+
+void write_raw_dyno(const TempDir& d, const std::string& id, double feed_mm, std::uint64_t seed) {
+  cutting::SlotRecordSpec s;
+  s.spindle_rpm = 500;
+  s.feed_per_tooth_m = feed_mm * 1e-3;
+  s.depth_m = 2e-3;
+  s.coefficients = {6.61e8, 9740, 3.17e8, 7620};  // appendix, "30-deg Uncoated Short"
+  s.theta_dyn_rad = -0.41;
+  s.offset_x_N = -4;
+  s.noise_std_N = 1.0;
+  s.fs_hz = 10000;
+  s.duration_s = 1.5;
+  s.seed = seed;
+  const auto rec = cutting::generate_slot_record(s);
+  const auto dir = d.path() / id;
+  std::filesystem::create_directories(dir);
+  write_signals(dir / "rec.f64", {"zero", "Fy", "Fx"}, {&rec.zero_V, &rec.Fy_N, &rec.Fx_N});
+  std::ostringstream y;
+  y << "kind: dyno-slot\nspindle_rpm: 500\nfeed_per_tooth_mm: " << feed_mm
+    << "\naxial_depth_mm: 2\nsample_rate_hz: 10000\n"
+    << "data: {file: rec.f64, channels: [zero, Fy, Fx]}\n"
+    << "acquisition_pc: lab-3   # a key of another tool: ignored with a warning\n";
+  d.write(id + "/test.yaml", y.str());
+}
+
+// A campaign as another tool writes it: raw .f64 files with their own channel order, deep
+// folders, extra keys; and broken tests beside it that must be skipped with their reasons.
+TEST(ReportEndToEnd, BrokenTestsAreSkippedAndTheRestRuns) {
+  TempDir d;
+  d.write("campaign.yaml", std::string(kCampaignYaml) + "operator: someone\n");
+  write_raw_dyno(d, "2026-11-20/dyno/a", 0.05, 1);
+  write_raw_dyno(d, "2026-11-20/dyno/b", 0.10, 2);
+  write_raw_dyno(d, "2026-11-20/dyno/c", 0.15, 3);
+  d.write("broken/ragged/test.yaml",
+          "kind: tap\naxis: x\nsample_rate_hz: 1000\ndata: {file: h.csv}\nresponse: velocity\n");
+  d.write("broken/ragged/h.csv", "force,response\n1,2\n3\n");
+  d.write("broken/nan/test.yaml",
+          "kind: tap\naxis: y\nsample_rate_hz: 1000\ndata: {file: h.csv}\nresponse: velocity\n");
+  d.write("broken/nan/h.csv", "force,response\n1,2\nNaN,2\n");
+  d.write("broken/nohit/test.yaml",
+          "kind: tap\naxis: y\nsample_rate_hz: 1000\ndata: {file: h.csv}\nresponse: velocity\n");
+  std::string flat = "force,response\n";
+  for (int i = 0; i < 2000; ++i) flat += "0,0\n";
+  d.write("broken/nohit/h.csv", flat);
+  d.write("broken/kind/test.yaml", "kind: laser-scan\nsample_rate_hz: 1\ndata: {file: h.csv}\n");
+  d.write("broken/kind/h.csv", "a\n1\n");
+  d.write("broken/missing/test.yaml", "kind: dyno-slot\nsample_rate_hz: 1000\n");
+
+  std::ostringstream log;
+  ReportOptions opt;
+  opt.pdf = false;
+  ASSERT_EQ(run_report(d.path(), d.path() / "out", opt, log), 0) << log.str();
+  const json r = read_json(d.path() / "out/results.json");
+  const json& t = r["tests"];
+  ASSERT_EQ(t.size(), 8u);
+  for (const char* id : {"2026-11-20/dyno/a", "2026-11-20/dyno/b", "2026-11-20/dyno/c"}) {
+    EXPECT_EQ(t[id]["status"], "ok") << id << t[id].dump();
+    // theta_dyn defined modulo 180 deg; -0.41 rad = -23.49 deg.
+    EXPECT_NEAR(t[id]["theta_dyn_deg"].get<double>(), -0.41 * 180 / M_PI, 0.5) << id;
+  }
+  EXPECT_LT(rel_err(r["groups"]["dyno-slot"]["Ktc_N_m2"], 6.61e8), 0.03);
+  EXPECT_LT(rel_err(r["groups"]["dyno-slot"]["Krc_N_m2"], 3.17e8), 0.03);
+
+  auto reason = [&](const char* id) {
+    EXPECT_EQ(t[id]["status"], "skipped") << id;
+    EXPECT_FALSE(t[id].contains("modes")) << id;  // no number from a failed step
+    return t[id]["skip_reason"].get<std::string>();
+  };
+  EXPECT_EQ(reason("broken/ragged"), "broken/ragged/h.csv: line 3 has 1 cells, the header has 2 (ragged row)");
+  EXPECT_EQ(reason("broken/nan"), "broken/nan/h.csv: NaN value at line 3, column 'force'");
+  EXPECT_NE(reason("broken/nohit").find("no hit above threshold"), std::string::npos);
+  EXPECT_NE(reason("broken/kind").find("'laser-scan' is not a known test kind"), std::string::npos);
+  EXPECT_NE(reason("broken/missing").find("broken/missing/test.yaml: key 'data' is missing"),
+            std::string::npos);
+  EXPECT_NE(reason("broken/missing").find("key 'spindle_rpm' is missing"), std::string::npos);
+
+  const std::string html = read_text(d.path() / "out/index.html");
+  EXPECT_NE(html.find("line 3 has 1 cells, the header has 2 (ragged row)"), std::string::npos);
+  EXPECT_NE(html.find("acquisition_pc"), std::string::npos);  // the ignored key is reported
+}
+
+TEST(ReportEndToEnd, ValidateListsProblemsAndFails) {
+  TempDir d;
+  d.write("campaign.yaml", kCampaignYaml);
+  d.write("t/test.yaml",
+          "kind: tap\naxis: z\nsample_rate_hz: 1000\ndata: {file: h.csv}\nresponse: velocity\n");
+  d.write("t/h.csv", "force,response\n1,2\n");
+  d.write("u/test.yaml",
+          "kind: tap\naxis: x\nsample_rate_hz: 1000\ndata: {file: h.csv}\nresponse: velocity\n");
+  d.write("u/h.csv", "force,resp\n1,2\n");
+  CampaignSpec c = load_campaign(d.path());
+  std::ostringstream out;
+  EXPECT_EQ(validate_campaign(c, out), 1);
+  EXPECT_NE(out.str().find("t/test.yaml: key 'axis' must be x or y, got 'z'"), std::string::npos);
+  EXPECT_NE(out.str().find("u/h.csv: channel 'response' is required for a tap test (channels: "
+                           "force, resp)"),
+            std::string::npos);
+  EXPECT_NE(out.str().find("2 tests found, 0 usable, 2 unusable"), std::string::npos);
+}
+
+TEST(ReportEndToEnd, MissingCampaignFolderFails) {
+  TempDir d;
+  std::ostringstream log;
+  EXPECT_EQ(run_report(d.path() / "nothing", d.path() / "out", {}, log), 1);
+  EXPECT_NE(log.str().find("not a folder"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace chatterlab::app
