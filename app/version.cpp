@@ -1,3 +1,0 @@
-namespace chatterlab {
-const char* version() { return CHATTERLAB_VERSION; }
-}  // namespace chatterlab
