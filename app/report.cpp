@@ -70,8 +70,15 @@ json tap_context(const TestOutcome& t, const std::string& figure) {
   j["fit_nrmse_pct"] = fmt_fixed(tap.fit_nrmse_pct, 1);
   json modes = json::array();
   int n = 0;
-  for (const auto& m : tap.modes) {
+  for (std::size_t i = 0; i < tap.modes.size(); ++i) {
+    const auto& m = tap.modes[i];
+    const auto& q = tap.quality.at(i);
+    std::string note;
+    if (q.resolution_limited) note = "\u03b6 from " + fmt_sig(q.half_power_bins, 2) + " bins";
+    if (q.negative_constant) note += std::string(note.empty() ? "" : "; ") + "A < 0";
+    if (q.at_bound) note += std::string(note.empty() ? "" : "; ") + "at fit bound";
     modes.push_back({{"n", ++n},
+                     {"note", note},
                      {"fn_hz", fmt_sig(m.fn_hz, 5)},
                      {"zeta_pct", fmt_sig(100 * m.zeta, 3)},
                      {"m_kg", fmt_sig(m.m_kg, 4)},

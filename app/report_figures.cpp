@@ -14,6 +14,18 @@ namespace {
 
 constexpr double kRadToDeg = 57.29577951308232;
 
+// Appends a phase sample, breaking the line (NaN) where it wraps between +180 and -180 deg
+// so that a wrap draws no vertical stroke across the panel.
+void push_phase(render::Series& s, double f, double deg) {
+  if (!s.y.empty() && std::isfinite(s.y.back()) && std::isfinite(deg) &&
+      std::abs(deg - s.y.back()) > 180.0) {
+    s.x.push_back(f);
+    s.y.push_back(std::nan(""));
+  }
+  s.x.push_back(f);
+  s.y.push_back(deg);
+}
+
 std::string file_stem(const std::string& id) {
   std::string s = id.empty() ? "root" : id;
   std::replace(s.begin(), s.end(), '/', '-');
@@ -48,16 +60,14 @@ render::Figure tap_frf_figure(const TestOutcome& t) {
     mag1.y.push_back(std::abs(tap.h1[i]));
     mag2.x.push_back(f);
     mag2.y.push_back(std::abs(tap.h2[i]));
-    ph1.x.push_back(f);
-    ph1.y.push_back(std::arg(tap.h1[i]) * kRadToDeg);
+    push_phase(ph1, f, std::arg(tap.h1[i]) * kRadToDeg);
     coh.x.push_back(f);
     coh.y.push_back(tap.coherence[i]);
     if (tap.fit_ok && tap.fitted.size() == tap.f_hz.size()) {
       const bool in_band = f >= tap.band_lo_hz && f <= tap.band_hi_hz;
       fit_mag.x.push_back(f);
       fit_mag.y.push_back(in_band ? std::abs(tap.fitted[i]) : std::nan(""));
-      fit_ph.x.push_back(f);
-      fit_ph.y.push_back(in_band ? std::arg(tap.fitted[i]) * kRadToDeg : std::nan(""));
+      push_phase(fit_ph, f, in_band ? std::arg(tap.fitted[i]) * kRadToDeg : std::nan(""));
     }
   }
   mag1.color = ph1.color = "#0072B2";

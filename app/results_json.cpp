@@ -24,9 +24,15 @@ json tap_json(const TapOutcome& t) {
   j["exp_window_tau_s"] = number_or_null(t.exp_window_tau_s);
   if (t.fit_ok) {
     json modes = json::array();
-    for (const auto& m : t.modes) {
+    for (std::size_t i = 0; i < t.modes.size(); ++i) {
+      const auto& m = t.modes[i];
+      const auto& q = t.quality.at(i);
       modes.push_back({{"fn_hz", m.fn_hz}, {"zeta", m.zeta}, {"m_kg", m.m_kg},
-                       {"c_kg_s", m.c_kg_s}, {"k_N_m", m.k_N_m}});
+                       {"c_kg_s", m.c_kg_s}, {"k_N_m", m.k_N_m},
+                       {"half_power_bins", q.half_power_bins},
+                       {"resolution_limited", q.resolution_limited},
+                       {"negative_modal_constant", q.negative_constant},
+                       {"at_fit_bound", q.at_bound}});
     }
     j["modes"] = modes;
     j["fit_nrmse_pct"] = number_or_null(t.fit_nrmse_pct);

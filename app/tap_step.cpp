@@ -66,6 +66,7 @@ TapOutcome run_tap_test(const TestSpec& t, const TapStepOptions& /*options*/) {
   if (fit.summary.ok) {
     out.fit_ok = true;
     out.modes = fit.modes;
+    out.quality = fit.quality;
     out.fit_nrmse_pct = fit.fit_nrmse_pct;
     out.fitted = fit.fitted;
     out.band_lo_hz = fit.band_lo_hz;

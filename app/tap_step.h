@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "analysis/common/summary.h"
+#include "analysis/frf/modal_fit.h"
 #include "analysis/frf/mode.h"
 #include "app/campaign.h"
 
@@ -37,6 +38,7 @@ struct TapOutcome {
   bool fit_ok = false;
   std::string fit_message = "not run";
   std::vector<frf::Mode> modes;  // sorted by frequency; empty unless fit_ok
+  std::vector<frf::ModeQuality> quality;  // one per mode
   double fit_nrmse_pct = std::numeric_limits<double>::quiet_NaN();
   double band_lo_hz = std::numeric_limits<double>::quiet_NaN();
   double band_hi_hz = std::numeric_limits<double>::quiet_NaN();

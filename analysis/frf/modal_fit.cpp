@@ -292,6 +292,7 @@ ModalFit fit_modes(const Frf& frf, const ModalFitOptions& o) {
   }
 
   // Physical modes, exponential window removed (windows.h), m = 1/A (003 eq. 4-27).
+  std::vector<std::pair<Mode, ModeQuality>> found;
   for (int i = 0; i < n_modes; ++i) {
     const double fn_fit = s.model.wn(s.theta.data(), i) / kTwoPi;
     const double zeta_fit = s.model.zeta(s.theta.data(), i);
@@ -305,32 +306,51 @@ ModalFit fit_modes(const Frf& frf, const ModalFitOptions& o) {
               fn_fit, pole.zeta, zeta_fit, 1.0 / (frf.exp_window_tau_s * kTwoPi * fn_fit)));
       return fit;
     }
-    if (std::find(s.at_bounds.begin(), s.at_bounds.end(), static_cast<size_t>(i)) !=
-        s.at_bounds.end()) {
+    ModeQuality q;
+    q.at_bound = std::find(s.at_bounds.begin(), s.at_bounds.end(), static_cast<size_t>(i)) !=
+                 s.at_bounds.end();
+    if (q.at_bound) {
       fit.summary.warnings.push_back(
           fmt("mode at %.6g Hz (zeta %.4g) ended on a bound of its frequency (the band) or damping "
               "[%g, %g]: treat it with suspicion",
               fn_fit, zeta_fit, kZetaMin, kZetaMax));
     }
-    if (a < 0.0) {
-      fit.summary.warnings.push_back(
-          fmt("mode at %.6g Hz has a negative modal constant (phase +90 deg at resonance): not "
-              "a driving-point FRF or a channel sign is inverted; m, c, k use |A|",
-              fn_fit));
-    }
-    fit.modes.push_back(mode_from_modal(pole.fn_hz, pole.zeta, 1.0 / std::abs(a)));
+    q.negative_constant = a < 0.0;
+    const Mode m = mode_from_modal(pole.fn_hz, pole.zeta, 1.0 / std::abs(a));
+    q.half_power_bins = 2.0 * m.zeta * m.fn_hz / frf.df_hz;
+    q.resolution_limited = q.half_power_bins < o.resolution_warning_bins;
+    found.emplace_back(m, q);
   }
-  std::sort(fit.modes.begin(), fit.modes.end(),
-            [](const Mode& x, const Mode& y) { return x.fn_hz < y.fn_hz; });
-  for (const Mode& m : fit.modes) {
-    const double bw = 2.0 * m.zeta * m.fn_hz;
-    if (bw < o.resolution_warning_bins * frf.df_hz) {
-      fit.summary.warnings.push_back(
-          fmt("mode at %.6g Hz: damping is resolution-limited: half-power bandwidth 2 zeta fn = "
-              "%.3g Hz is below %g df = %.3g Hz",
-              m.fn_hz, bw, o.resolution_warning_bins, o.resolution_warning_bins * frf.df_hz) +
-          fmt(" (zeta = %.3g is an estimate from about %.2g bins)", m.zeta, bw / frf.df_hz));
+  std::sort(found.begin(), found.end(),
+            [](const auto& x, const auto& y) { return x.first.fn_hz < y.first.fn_hz; });
+  // One warning per kind, listing the modes it concerns (the report flags each mode).
+  std::string negative, limited;
+  int n_limited = 0;
+  double bins_lo = 1e300, bins_hi = 0.0;
+  for (const auto& [m, q] : found) {
+    fit.modes.push_back(m);
+    fit.quality.push_back(q);
+    if (q.negative_constant) negative += (negative.empty() ? "" : ", ") + fmt("%.6g", m.fn_hz);
+    if (q.resolution_limited) {
+      limited += (limited.empty() ? "" : ", ") + fmt("%.6g", m.fn_hz);
+      ++n_limited;
+      bins_lo = std::min(bins_lo, q.half_power_bins);
+      bins_hi = std::max(bins_hi, q.half_power_bins);
     }
+  }
+  if (!negative.empty()) {
+    fit.summary.warnings.push_back(
+        "negative modal constant (phase +90 deg at resonance) at " + negative +
+        " Hz: not a driving-point FRF or a channel sign is inverted; m, c, k use |A|");
+  }
+  if (n_limited > 0) {
+    fit.summary.warnings.push_back(
+        fmt("damping is resolution-limited for %g of ", static_cast<double>(n_limited)) +
+        fmt("%g modes (", static_cast<double>(n_modes)) + limited +
+        fmt(" Hz): half-power bandwidth 2 zeta fn is below %g df = ", o.resolution_warning_bins) +
+        fmt("%.3g Hz, so zeta and c are estimates from ", o.resolution_warning_bins * frf.df_hz) +
+        fmt("%.2g to ", bins_lo) + fmt("%.2g bins; longer records (finer df) would resolve them",
+                                       bins_hi));
   }
   if (fit.fit_nrmse_pct < 80.0) {
     fit.summary.warnings.push_back(

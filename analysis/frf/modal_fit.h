@@ -48,9 +48,19 @@ struct ModalFitOptions {
   int max_iterations = 200;              // Levenberg-Marquardt iterations
 };
 
+// What a reader should know about one fitted mode (shown beside it in the report).
+struct ModeQuality {
+  // 2 zeta fn < resolution_warning_bins * df: zeta and c are estimates from few bins.
+  bool resolution_limited = false;
+  double half_power_bins = 0.0;     // 2 zeta fn / df
+  bool negative_constant = false;   // A < 0: not a driving-point FRF (m, c, k use |A|)
+  bool at_bound = false;            // the fit ended on a bound of wn or zeta
+};
+
 struct ModalFit {
   StepSummary summary;
   std::vector<Mode> modes;     // sorted by frequency, exponential window removed
+  std::vector<ModeQuality> quality;  // one per mode, same order
   double fit_nrmse_pct = 0.0;  // 004 eq. 3.2 on the complex receptance over the band
   Eigen::VectorXcd fitted;     // the fitted model (window included) on frf.f_hz
   double band_lo_hz = 0.0;

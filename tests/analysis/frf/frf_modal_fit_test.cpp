@@ -172,10 +172,14 @@ TEST(ModalFitChain, ResolutionLimitedDampingIsWarned) {
   for (const std::string& w : c.fit.summary.warnings) {
     if (w.find("damping is resolution-limited") == std::string::npos) continue;
     warned = true;
-    EXPECT_THAT(w, StartsWith("mode at 891."));
+    EXPECT_THAT(w, StartsWith("damping is resolution-limited for 1 of 1 modes (891."));
     EXPECT_THAT(w, HasSubstr("is below 4 df = 16 Hz"));
   }
   EXPECT_TRUE(warned);
+  ASSERT_EQ(c.fit.quality.size(), 1u);
+  EXPECT_TRUE(c.fit.quality[0].resolution_limited);
+  // 2 zeta fn / df = 1.78 Hz / 4 Hz.
+  EXPECT_NEAR(c.fit.quality[0].half_power_bins, 2 * 0.001 * 891.8 / 4.0, 0.05);
   EXPECT_NEAR(percent_error(c.fit.modes.at(0).fn_hz, light.fn_hz), 0.0, kFnTolPct);
 }
 
