@@ -100,16 +100,21 @@ void read_tap(const YAML::Node& root, YamlReader& r, TestSpec& t) {
   t.tap = s;
 }
 
+// spindle_rpm and feed_per_tooth_mm, shared by cut and dyno-slot tests.
+void read_speed_and_feed(const YAML::Node& root, YamlReader& r, double* rpm, double* feed_m) {
+  *rpm = r.required_double(root, "spindle_rpm");
+  if (*rpm <= 0) r.error("spindle_rpm", "must be > 0");
+  *feed_m = r.required_double(root, "feed_per_tooth_mm") * kMm;
+  if (*feed_m <= 0) r.error("feed_per_tooth_mm", "must be > 0");
+}
+
 void read_cut(const YAML::Node& root, YamlReader& r, TestSpec& t) {
   CutSpec s;
   s.operation = r.required_string(root, "operation");
   if (!s.operation.empty() && s.operation != "up-milling" && s.operation != "down-milling") {
     r.error("operation", "must be up-milling or down-milling, got '" + s.operation + "'");
   }
-  s.spindle_rpm = r.required_double(root, "spindle_rpm");
-  if (s.spindle_rpm <= 0) r.error("spindle_rpm", "must be > 0");
-  s.feed_per_tooth_m = r.required_double(root, "feed_per_tooth_mm") * kMm;
-  if (s.feed_per_tooth_m <= 0) r.error("feed_per_tooth_mm", "must be > 0");
+  read_speed_and_feed(root, r, &s.spindle_rpm, &s.feed_per_tooth_m);
   s.radial_immersion_m = r.required_double(root, "radial_immersion_mm") * kMm;
   if (s.radial_immersion_m <= 0) r.error("radial_immersion_mm", "must be > 0");
   if (auto d = r.optional_number_or_pair(root, "axial_depth_mm")) {
@@ -131,10 +136,7 @@ void read_cut(const YAML::Node& root, YamlReader& r, TestSpec& t) {
 
 void read_dyno(const YAML::Node& root, YamlReader& r, TestSpec& t) {
   DynoSlotSpec s;
-  s.spindle_rpm = r.required_double(root, "spindle_rpm");
-  if (s.spindle_rpm <= 0) r.error("spindle_rpm", "must be > 0");
-  s.feed_per_tooth_m = r.required_double(root, "feed_per_tooth_mm") * kMm;
-  if (s.feed_per_tooth_m <= 0) r.error("feed_per_tooth_mm", "must be > 0");
+  read_speed_and_feed(root, r, &s.spindle_rpm, &s.feed_per_tooth_m);
   s.axial_depth_m = r.required_double(root, "axial_depth_mm") * kMm;
   if (s.axial_depth_m <= 0) r.error("axial_depth_mm", "must be > 0");
   t.dyno = s;
@@ -258,7 +260,8 @@ CampaignSpec load_campaign(const fs::path& root_in) {
         }
         ts.teeth = std::isnan(teeth) ? 0 : static_cast<int>(teeth);
         ts.radius_m = r.required_double(tool, "radius_mm", "tool") * kMm;
-        if (!(ts.radius_m > 0) && !std::isnan(ts.radius_m)) r.error("tool.radius_mm", "must be > 0");
+        if (!(ts.radius_m > 0) && !std::isnan(ts.radius_m))
+          r.error("tool.radius_mm", "must be > 0");
         ts.helix_deg = r.optional_double(tool, "helix_deg", "tool");
         if (r.errors().empty()) c.tool = ts;
       }

@@ -19,7 +19,7 @@ struct ToolSpec {
 };
 
 struct ChannelSpec {
-  double scale = 1.0;   // physical = scale * raw + offset
+  double scale = 1.0;  // physical = scale * raw + offset
   double offset = 0.0;
   std::optional<double> threshold;  // pulse channels (tach, zero): rising-edge threshold
 };
@@ -57,7 +57,7 @@ struct DynoSlotSpec {
 };
 
 struct TestSpec {
-  std::string id;         // folder relative to campaign root, '/' separated
+  std::string id;  // folder relative to campaign root, '/' separated
   fs::path folder;
   std::string yaml_label;  // "<id>/test.yaml", used in messages
   std::string kind;
@@ -87,8 +87,8 @@ struct CampaignSpec {
   bool has_truth = false;
   fs::path truth_file;
 
-  std::vector<TestSpec> tests;        // sorted by id
-  std::vector<std::string> errors;    // campaign-level: the campaign cannot be run
+  std::vector<TestSpec> tests;      // sorted by id
+  std::vector<std::string> errors;  // campaign-level: the campaign cannot be run
   std::vector<std::string> warnings;
 };
 

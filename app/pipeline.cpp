@@ -62,8 +62,9 @@ void run_test(const TestSpec& t, const PipelineOptions& o, TestOutcome& out) {
     } else if (t.kind == "dyno-slot") {
       run_dyno_record(t, o, out);
     } else if (t.kind == "cut") {
-      out.status.fail("cut-run analysis (tachometer, runout, offset angle, estimators) is not "
-                      "part of this version; the test was read and validated only");
+      out.status.fail(
+          "cut-run analysis (tachometer, runout, offset angle, estimators) is not "
+          "part of this version; the test was read and validated only");
     }
   } catch (const std::exception& e) {
     out.status.fail(e.what());
@@ -86,9 +87,10 @@ DynoGroupOutcome run_dyno_group(const CampaignResults& r, const PipelineOptions&
     depth.push_back(t.dyno->axial_depth_m);
   }
   if (r.campaign.tool && r.campaign.tool->teeth != 2) {
-    g.summary.fail("the slot method of 000 sec. 3.2 assumes a two-tooth tool (one tooth cutting "
-                   "at a time); campaign.yaml tool.teeth = " +
-                   std::to_string(r.campaign.tool->teeth));
+    g.summary.fail(
+        "the slot method of 000 sec. 3.2 assumes a two-tooth tool (one tooth cutting "
+        "at a time); campaign.yaml tool.teeth = " +
+        std::to_string(r.campaign.tool->teeth));
     return g;
   }
   if (feeds.size() < 2) {

@@ -8,6 +8,7 @@
 #include <future>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <thread>
 
 #include "app/format.h"
 #include "app/report_figures.h"
@@ -119,17 +120,19 @@ json dyno_context(const CampaignResults& r, const std::string& figure) {
   d["rms_r_N"] = fmt_sig(g.fit.radial.rms_residual_N, 3);
   d["r2_t"] = fmt_fixed(g.fit.tangential.r_squared, 4);
   d["r2_r"] = fmt_fixed(g.fit.radial.r_squared, 4);
-  std::string tool = r.campaign.workpiece.empty() ? std::string("workpiece not given")
-                                                  : r.campaign.workpiece;
+  std::string tool =
+      r.campaign.workpiece.empty() ? std::string("workpiece not given") : r.campaign.workpiece;
   if (r.campaign.tool) {
-    tool += " / " + std::to_string(r.campaign.tool->teeth) + "-tooth, r = " +
-            fmt_sig(r.campaign.tool->radius_m * 1e3, 3) + " mm";
-    if (r.campaign.tool->helix_deg) tool += ", " + fmt_sig(*r.campaign.tool->helix_deg, 3) + "-deg helix";
+    tool += " / " + std::to_string(r.campaign.tool->teeth) +
+            "-tooth, r = " + fmt_sig(r.campaign.tool->radius_m * 1e3, 3) + " mm";
+    if (r.campaign.tool->helix_deg)
+      tool += ", " + fmt_sig(*r.campaign.tool->helix_deg, 3) + "-deg helix";
   }
   d["tool_label"] = tool;
   d["convention_note"] =
       g.fit.mean_force_model == cutting::SlotMeanForceModel::kSingleToothChip
-          ? "Coefficients use mean |F| = (2/\u03c0) b K<sub>c</sub> h + b K<sub>e</sub>, which agrees "
+          ? "Coefficients use mean |F| = (2/\u03c0) b K<sub>c</sub> h + b K<sub>e</sub>, which "
+            "agrees "
             "with the force model of eqs 3.3\u20133.4 (one tooth cutting a chip h sin \u03b8 at a "
             "time); 000 eq. 3.5 as printed gives half these K<sub>tc</sub>, K<sub>rc</sub> "
             "(docs/dyno-coefficients.md)."
@@ -137,6 +140,47 @@ json dyno_context(const CampaignResults& r, const std::string& figure) {
             "K<sub>c</sub> h + b K<sub>e</sub>); the force model of eqs 3.3\u20133.4 implies twice "
             "these K<sub>tc</sub>, K<sub>rc</sub> (docs/dyno-coefficients.md).";
   return d;
+}
+
+json setting(const std::string& key, const std::string& value) {
+  return {{"key", key}, {"value", value}};
+}
+
+// The analysis settings in force (defaults unless changed), for the provenance section.
+json settings_context(const PipelineOptions& p, const ReportOptions& r) {
+  const auto& h = p.tap.hits;
+  const auto& f = p.tap.frf;
+  const auto& m = p.tap.fit;
+  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
+  return json::array(
+      {setting("tap: hit threshold", fmt_sig(100 * h.threshold_fraction, 3) +
+                                         " % of the largest peak, at least " +
+                                         fmt_sig(h.noise_multiple, 3) + " x force noise"),
+       setting("tap: pre-trigger", fmt_sig(h.pretrigger_s * 1e3, 3) + " ms"),
+       setting("tap: double-hit window", fmt_sig(h.double_hit_window_s * 1e3, 3) + " ms"),
+       setting("tap: exponential window", f.exp_window_auto
+                                              ? "automatic, response down to " +
+                                                    fmt_sig(100 * f.exp_window_end_fraction, 2) +
+                                                    " % at the record end"
+                                              : "tau = " + fmt_sig(f.exp_window_tau_s, 3) + " s"),
+       setting("tap: FRF estimator for the fit",
+               m.estimator == frf::FrfEstimator::kH1 ? "H1" : "H2"),
+       setting("tap: automatic band and modes",
+               "peaks with coherence >= " + fmt_sig(m.min_coherence, 2) +
+                   ", prominence >= " + fmt_sig(m.min_prominence_db, 2) +
+                   " dB; band over peaks within " + fmt_sig(m.band_dominance_db, 2) +
+                   " dB of the largest; modes within " + fmt_sig(m.mode_floor_db, 2) + " dB"),
+       setting("tap: residual terms", m.residual_terms ? "upper and lower" : "none"),
+       setting("dyno: mean-force model",
+               p.dyno.mean_force_model == cutting::SlotMeanForceModel::kSingleToothChip
+                   ? "single-tooth chip (2/pi), default"
+                   : "000 eq. 3.5 as printed (4/pi)"),
+       setting("dyno: zero-count threshold (when test.yaml gives none)",
+               fmt_sig(p.dyno.zero_threshold_V, 3) + " V"),
+       setting("dyno: pulse spacing tolerance", fmt_sig(100 * p.dyno.rpm_tolerance, 3) + " %"),
+       setting("worker threads", r.jobs > 0
+                                     ? std::to_string(r.jobs)
+                                     : "one per hardware thread (" + std::to_string(hw) + ")")});
 }
 
 }  // namespace
@@ -158,7 +202,8 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
                const ReportOptions& options, std::ostream& log) {
   const auto t0 = std::chrono::steady_clock::now();
   CampaignSpec spec = load_campaign(campaign_dir);
-  if (!std::filesystem::exists(spec.root / "campaign.yaml") || !std::filesystem::is_directory(spec.root)) {
+  if (!std::filesystem::exists(spec.root / "campaign.yaml") ||
+      !std::filesystem::is_directory(spec.root)) {
     for (const auto& e : spec.errors) log << "chatterlab report: " << e << "\n";
     return 1;
   }
@@ -208,7 +253,8 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
   }
   ctx["tests"] = tests;
   ctx["skipped"] = skipped;
-  ctx["summary"] = {{"tests_found", r.tests.size()}, {"tests_ok", ok},
+  ctx["summary"] = {{"tests_found", r.tests.size()},
+                    {"tests_ok", ok},
                     {"tests_skipped", r.tests.size() - static_cast<std::size_t>(ok)}};
   ctx["has_tap"] = !taps.empty();
   ctx["tap_tests"] = taps;
@@ -216,7 +262,8 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
   if (r.dyno_group) {
     ctx["dyno"] = dyno_context(r, figures.dyno);
     if (!r.dyno_group->summary.warnings.empty()) {
-      for (const auto& w : r.dyno_group->summary.warnings) warnings.push_back("dyno-slot group: " + w);
+      for (const auto& w : r.dyno_group->summary.warnings)
+        warnings.push_back("dyno-slot group: " + w);
     }
   }
   ctx["has_skipped"] = !skipped.empty();
@@ -224,8 +271,10 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
   ctx["warnings"] = warnings;
   json truth_rows = json::array();
   for (const auto& row : truth.rows) {
-    truth_rows.push_back({{"quantity", row.quantity}, {"source", row.source},
-                          {"truth", fmt_sig(row.truth, 5)}, {"estimate", fmt_sig(row.estimate, 5)},
+    truth_rows.push_back({{"quantity", row.quantity},
+                          {"source", row.source},
+                          {"truth", fmt_sig(row.truth, 5)},
+                          {"estimate", fmt_sig(row.estimate, 5)},
                           {"error_pct", fmt_fixed(row.error_pct, 2)}});
   }
   ctx["truth"] = {{"present", truth.present && !truth.rows.empty()}, {"rows", truth_rows}};
@@ -233,21 +282,11 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
   for (const auto& f : r.inputs) {
     inputs.push_back({{"file", f.relative_path}, {"bytes", f.bytes}, {"sha256", f.sha256}});
   }
-  const double runtime = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  ctx["provenance"] = {
-      {"inputs", inputs},
-      {"runtime_s", fmt_sig(runtime, 3)},
-      {"settings",
-       json::array({{{"key", "dynamometer mean-force model"},
-                     {"value", popt.dyno.mean_force_model ==
-                                       cutting::SlotMeanForceModel::kSingleToothChip
-                                   ? "single-tooth chip (2/pi), default"
-                                   : "000 eq. 3.5 as printed (4/pi)"}},
-                    {{"key", "zero-count threshold (default, V)"},
-                     {"value", fmt_sig(popt.dyno.zero_threshold_V, 3)}},
-                    {{"key", "speed tolerance of pulse spacing"},
-                     {"value", fmt_sig(100 * popt.dyno.rpm_tolerance, 3) + " %"}},
-                    {{"key", "worker threads"}, {"value", std::to_string(options.jobs)}}})}};
+  const double runtime =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ctx["provenance"] = {{"inputs", inputs},
+                       {"runtime_s", fmt_sig(runtime, 3)},
+                       {"settings", settings_context(popt, options)}};
 
   // results.json first: it must exist even if the PDF step fails.
   {
@@ -276,9 +315,12 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
   }
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   log << "report: " << r.tests.size() << " tests, " << ok << " analysed, "
-      << r.tests.size() - static_cast<std::size_t>(ok) << " skipped; wrote " << (out / "index.html").string()
-      << (pdf_written ? ", report.pdf" : "") << ", results.json in " << fmt_sig(total, 3) << " s\n";
-  for (const auto& s : skipped) log << "  skipped " << s["id"].get<std::string>() << ": " << s["reason"].get<std::string>() << "\n";
+      << r.tests.size() - static_cast<std::size_t>(ok) << " skipped; wrote "
+      << (out / "index.html").string() << (pdf_written ? ", report.pdf" : "")
+      << ", results.json in " << fmt_sig(total, 3) << " s\n";
+  for (const auto& s : skipped)
+    log << "  skipped " << s["id"].get<std::string>() << ": " << s["reason"].get<std::string>()
+        << "\n";
   return rc;
 }
 

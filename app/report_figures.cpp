@@ -163,7 +163,8 @@ FigureSet render_report_figures(const CampaignResults& r, const std::filesystem:
   std::vector<Job> work;
   for (const auto& t : r.tests) {
     if (t.status.ok && t.tap && t.tap->f_hz.size() > 1) {
-      work.push_back({t.spec->id, "figures/tap-" + file_stem(t.spec->id) + "-frf", tap_frf_figure(t)});
+      work.push_back(
+          {t.spec->id, "figures/tap-" + file_stem(t.spec->id) + "-frf", tap_frf_figure(t)});
     }
   }
   if (r.dyno_group && r.dyno_group->summary.ok) {

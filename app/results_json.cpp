@@ -27,8 +27,11 @@ json tap_json(const TapOutcome& t) {
     for (std::size_t i = 0; i < t.modes.size(); ++i) {
       const auto& m = t.modes[i];
       const auto& q = t.quality.at(i);
-      modes.push_back({{"fn_hz", m.fn_hz}, {"zeta", m.zeta}, {"m_kg", m.m_kg},
-                       {"c_kg_s", m.c_kg_s}, {"k_N_m", m.k_N_m},
+      modes.push_back({{"fn_hz", m.fn_hz},
+                       {"zeta", m.zeta},
+                       {"m_kg", m.m_kg},
+                       {"c_kg_s", m.c_kg_s},
+                       {"k_N_m", m.k_N_m},
                        {"half_power_bins", q.half_power_bins},
                        {"resolution_limited", q.resolution_limited},
                        {"negative_modal_constant", q.negative_constant},
@@ -106,9 +109,10 @@ json results_json(const CampaignResults& r, const TruthComparison& truth) {
       d["Kte_N_m"] = k.Kte_N_per_m;
       d["Krc_N_m2"] = k.Krc_N_per_m2;
       d["Kre_N_m"] = k.Kre_N_per_m;
-      d["mean_force_model"] = g.fit.mean_force_model == cutting::SlotMeanForceModel::kSingleToothChip
-                                  ? "single-tooth-chip"
-                                  : "dissertation-eq-3.5";
+      d["mean_force_model"] =
+          g.fit.mean_force_model == cutting::SlotMeanForceModel::kSingleToothChip
+              ? "single-tooth-chip"
+              : "dissertation-eq-3.5";
       d["tangential_fit"] = line_json(g.fit.tangential);
       d["radial_fit"] = line_json(g.fit.radial);
       if (!g.summary.warnings.empty()) d["warnings"] = g.summary.warnings;
@@ -126,8 +130,11 @@ json results_json(const CampaignResults& r, const TruthComparison& truth) {
   if (truth.present) {
     json rows = json::array();
     for (const auto& row : truth.rows) {
-      rows.push_back({{"quantity", row.quantity}, {"source", row.source}, {"truth", row.truth},
-                      {"estimate", row.estimate}, {"error_pct", row.error_pct}});
+      rows.push_back({{"quantity", row.quantity},
+                      {"source", row.source},
+                      {"truth", row.truth},
+                      {"estimate", row.estimate},
+                      {"error_pct", row.error_pct}});
     }
     j["truth_comparison"] = rows;
   }

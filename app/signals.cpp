@@ -53,7 +53,8 @@ class MappedFile {
 namespace {
 
 std::string trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '"')) s.remove_prefix(1);
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '"'))
+    s.remove_prefix(1);
   while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r' || s.back() == '"'))
     s.remove_suffix(1);
   return std::string(s);
@@ -142,12 +143,11 @@ SignalTable SignalTable::open(const DataSpec& data, const std::string& label) {
       std::size_t cell = 0, cpos = 0;
       while (true) {
         const std::size_t comma = line.find(',', cpos);
-        std::string_view s = line.substr(cpos, comma == std::string_view::npos ? line.size() - cpos
-                                                                             : comma - cpos);
+        std::string_view s =
+            line.substr(cpos, comma == std::string_view::npos ? line.size() - cpos : comma - cpos);
         if (cell >= nch) {
           throw InputError(label + ": line " + std::to_string(line_no) + " has more than " +
-                           std::to_string(nch) + " cells (header has " + std::to_string(nch) +
-                           ")");
+                           std::to_string(nch) + " cells (header has " + std::to_string(nch) + ")");
         }
         while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
         while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);

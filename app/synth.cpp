@@ -48,8 +48,9 @@ struct DynoSpec {
 
 DynoSpec read_dyno(const YAML::Node& n, YamlReader& r) {
   DynoSpec d;
-  r.check_keys(n, {"spindle_rpm", "axial_depth_mm", "feeds_mm", "sample_rate_hz", "duration_s",
-                   "theta_dyn_deg", "sensitivity_V_per_N", "offsets_N", "noise_N", "coefficients"},
+  r.check_keys(n,
+               {"spindle_rpm", "axial_depth_mm", "feeds_mm", "sample_rate_hz", "duration_s",
+                "theta_dyn_deg", "sensitivity_V_per_N", "offsets_N", "noise_N", "coefficients"},
                "dyno");
   d.rpm = r.required_double(n, "spindle_rpm", "dyno");
   d.depth_m = r.required_double(n, "axial_depth_mm", "dyno") * 1e-3;
@@ -120,8 +121,9 @@ int write_dyno_group(const DynoSpec& d, std::uint64_t seed, const std::filesyste
     write_text(dir / "test.yaml", y.str());
     ++written;
   }
-  truth_tests << "  dyno/: {Ktc_N_m2: " << num(d.k.Ktc_N_per_m2) << ", Kte_N_m: " << num(d.k.Kte_N_per_m)
-              << ", Krc_N_m2: " << num(d.k.Krc_N_per_m2) << ", Kre_N_m: " << num(d.k.Kre_N_per_m)
+  truth_tests << "  dyno/: {Ktc_N_m2: " << num(d.k.Ktc_N_per_m2)
+              << ", Kte_N_m: " << num(d.k.Kte_N_per_m) << ", Krc_N_m2: " << num(d.k.Krc_N_per_m2)
+              << ", Kre_N_m: " << num(d.k.Kre_N_per_m)
               << ", theta_dyn_deg: " << num(d.theta_dyn_deg) << "}\n";
   return written;
 }
@@ -158,7 +160,8 @@ SynthSummary synthesize_campaign(const std::filesystem::path& spec_yaml,
   std::filesystem::create_directories(out_dir);
   std::ostringstream campaign;
   campaign << "format: chatterlab-campaign/1\nname: " << summary.campaign_name << "\n";
-  if (root["description"]) campaign << "description: >\n  " << root["description"].as<std::string>() << "\n";
+  if (root["description"])
+    campaign << "description: >\n  " << root["description"].as<std::string>() << "\n";
   if (tool) {
     campaign << "tool: {teeth: " << tool["teeth"].as<int>()
              << ", radius_mm: " << num(tool["radius_mm"].as<double>());

@@ -7,6 +7,7 @@
 #include "analysis/common/summary.h"
 #include "analysis/frf/modal_response.h"
 #include "app/signals.h"
+#include "app/tap_step.h"
 
 namespace chatterlab::app {
 namespace {
@@ -18,18 +19,13 @@ std::string num(double v) {
   return s.str();
 }
 
-frf::ResponseKind response_kind(const std::string& s) {
-  if (s == "velocity") return frf::ResponseKind::kVelocity;
-  if (s == "displacement") return frf::ResponseKind::kDisplacement;
-  return frf::ResponseKind::kAcceleration;
-}
-
 }  // namespace
 
 TapSynthSpec read_tap_synth(const YAML::Node& n, YamlReader& r) {
   TapSynthSpec s;
-  r.check_keys(n, {"sample_rate_hz", "hits", "hit_spacing_s", "response", "noise_pct",
-                   "force_peak_N", "pulse_width_s", "axes"},
+  r.check_keys(n,
+               {"sample_rate_hz", "hits", "hit_spacing_s", "response", "noise_pct", "force_peak_N",
+                "pulse_width_s", "axes"},
                "tap");
   s.fs_hz = r.optional_double(n, "sample_rate_hz", "tap").value_or(s.fs_hz);
   s.hits = static_cast<int>(r.optional_double(n, "hits", "tap").value_or(s.hits));
@@ -94,13 +90,14 @@ int write_tap_tests(const TapSynthSpec& s, std::uint64_t seed, const std::filesy
         pulses.push_back({t + 3e-3, s.force_peak_N / 3, s.pulse_width_s});
       }
     }
-    const auto n = static_cast<Eigen::Index>(std::llround((0.2 + s.hits * s.hit_spacing_s) * s.fs_hz));
+    const auto n =
+        static_cast<Eigen::Index>(std::llround((0.2 + s.hits * s.hit_spacing_s) * s.fs_hz));
     frf::TapSynthesisOptions opt;
     opt.force_noise_fraction = s.noise_pct / 100.0 * 0.1;  // a hammer channel is cleaner
     opt.response_noise_fraction = s.noise_pct / 100.0;
     opt.seed = axis_seed;
     const frf::TapRecord rec =
-        frf::synthesize_tap_record(a.modes, pulses, s.fs_hz, n, response_kind(s.response), opt);
+        frf::synthesize_tap_record(a.modes, pulses, s.fs_hz, n, response_kind_of(s.response), opt);
     const auto dir = out / "tap" / axis;
     std::filesystem::create_directories(dir);
     write_signals(dir / "hits.csv", {"force", "response"}, {&rec.force_n, &rec.response});

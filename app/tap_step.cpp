@@ -8,17 +8,13 @@
 #include "app/signals.h"
 
 namespace chatterlab::app {
-namespace {
-
-frf::ResponseKind response_kind(const std::string& s) {
+frf::ResponseKind response_kind_of(const std::string& s) {
   if (s == "velocity") return frf::ResponseKind::kVelocity;
   if (s == "displacement") return frf::ResponseKind::kDisplacement;
   return frf::ResponseKind::kAcceleration;
 }
 
-}  // namespace
-
-TapOutcome run_tap_test(const TestSpec& t, const TapStepOptions& /*options*/) {
+TapOutcome run_tap_test(const TestSpec& t, const TapStepOptions& options) {
   TapOutcome out;
   const std::string label = (t.id.empty() ? "" : t.id + "/") + t.data.relative_file;
   const SignalTable table = SignalTable::open(t.data, label);
@@ -27,11 +23,11 @@ TapOutcome run_tap_test(const TestSpec& t, const TapStepOptions& /*options*/) {
 
   frf::HitSet hits;
   if (t.tap->hits_auto) {
-    hits = frf::detect_hits(force, response, t.sample_rate_hz);
+    hits = frf::detect_hits(force, response, t.sample_rate_hz, options.hits);
   } else {
     std::vector<std::array<double, 2>> windows;
     for (const auto& [a, b] : t.tap->hit_windows_s) windows.push_back({a, b});
-    hits = frf::hits_from_windows(force, response, t.sample_rate_hz, windows);
+    hits = frf::hits_from_windows(force, response, t.sample_rate_hz, windows, options.hits);
   }
   for (const auto& h : hits.hits) {
     out.hits.push_back({h.time_s, h.peak_force_n, h.accepted, h.rejection});
@@ -42,7 +38,8 @@ TapOutcome run_tap_test(const TestSpec& t, const TapStepOptions& /*options*/) {
     return out;
   }
 
-  const frf::Frf f = frf::compute_frf(force, response, hits, response_kind(t.tap->response));
+  const frf::Frf f =
+      frf::compute_frf(force, response, hits, response_kind_of(t.tap->response), options.frf);
   out.warnings.insert(out.warnings.end(), f.summary.warnings.begin(), f.summary.warnings.end());
   if (!f.summary.ok) {
     out.summary.fail(label + ": " + f.summary.message);
@@ -57,9 +54,10 @@ TapOutcome run_tap_test(const TestSpec& t, const TapStepOptions& /*options*/) {
   if (f.exp_window_tau_s > 0) out.exp_window_tau_s = f.exp_window_tau_s;
   out.summary.succeed();
 
-  frf::ModalFitOptions fo;
-  if (t.tap->band_hz) fo.band_hz = std::array<double, 2>{t.tap->band_hz->first, t.tap->band_hz->second};
-  fo.n_modes = t.tap->modes;
+  frf::ModalFitOptions fo = options.fit;
+  if (t.tap->band_hz)
+    fo.band_hz = std::array<double, 2>{t.tap->band_hz->first, t.tap->band_hz->second};
+  if (t.tap->modes > 0) fo.n_modes = t.tap->modes;
   const frf::ModalFit fit = frf::fit_modes(f, fo);
   out.warnings.insert(out.warnings.end(), fit.summary.warnings.begin(), fit.summary.warnings.end());
   out.fit_message = fit.summary.message;

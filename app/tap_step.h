@@ -8,21 +8,27 @@
 #include <vector>
 
 #include "analysis/common/summary.h"
+#include "analysis/frf/frf.h"
+#include "analysis/frf/hits.h"
 #include "analysis/frf/modal_fit.h"
 #include "analysis/frf/mode.h"
 #include "app/campaign.h"
 
 namespace chatterlab::app {
 
+// Analysis defaults of every tap test (docs/tap-tests.md); a test's band_hz and modes keys
+// override fit.band_hz and fit.n_modes for that test.
 struct TapStepOptions {
-  // Reserved for user overrides of the analysis defaults (docs/tap-tests.md).
+  frf::HitOptions hits;
+  frf::FrfOptions frf;
+  frf::ModalFitOptions fit;
 };
 
 struct TapHitInfo {
-  double time_s = 0;     // start of the hit's pulse
+  double time_s = 0;  // start of the hit's pulse
   double peak_N = 0;
   bool accepted = false;
-  std::string reason;    // why it was rejected
+  std::string reason;  // why it was rejected
 };
 
 struct TapOutcome {
@@ -37,13 +43,16 @@ struct TapOutcome {
   double exp_window_tau_s = std::numeric_limits<double>::quiet_NaN();  // NaN: none applied
   bool fit_ok = false;
   std::string fit_message = "not run";
-  std::vector<frf::Mode> modes;  // sorted by frequency; empty unless fit_ok
+  std::vector<frf::Mode> modes;           // sorted by frequency; empty unless fit_ok
   std::vector<frf::ModeQuality> quality;  // one per mode
   double fit_nrmse_pct = std::numeric_limits<double>::quiet_NaN();
   double band_lo_hz = std::numeric_limits<double>::quiet_NaN();
   double band_hi_hz = std::numeric_limits<double>::quiet_NaN();
   Eigen::VectorXcd fitted;  // model receptance on f_hz (empty unless fit_ok)
 };
+
+// test.yaml's `response` (acceleration | velocity | displacement, validated by the loader).
+frf::ResponseKind response_kind_of(const std::string& response);
 
 // Runs the step on one tap test. Bad input throws InputError (the caller skips the test).
 TapOutcome run_tap_test(const TestSpec& t, const TapStepOptions& options);

@@ -16,7 +16,8 @@ class YamlReader {
   explicit YamlReader(std::string file_label) : file_(std::move(file_label)) {}
 
   // Required keys: a missing key or a wrong type is an error; the default is returned.
-  double required_double(const YAML::Node& map, const std::string& key, const std::string& path = "");
+  double required_double(const YAML::Node& map, const std::string& key,
+                         const std::string& path = "");
   std::string required_string(const YAML::Node& map, const std::string& key,
                               const std::string& path = "");
   // Optional keys: absent -> nullopt; wrong type -> error and nullopt.
@@ -31,8 +32,8 @@ class YamlReader {
   std::optional<std::pair<double, double>> optional_pair(const YAML::Node& map,
                                                          const std::string& key,
                                                          const std::string& path = "");
-  std::vector<std::string> string_list(const YAML::Node& map, const std::string& key,
-                                       bool required, const std::string& path = "");
+  std::vector<std::string> string_list(const YAML::Node& map, const std::string& key, bool required,
+                                       const std::string& path = "");
 
   // Warn about keys not in `known`, suggesting the closest known key (a misspelt key).
   void check_keys(const YAML::Node& map, const std::set<std::string>& known,

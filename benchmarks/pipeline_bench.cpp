@@ -58,7 +58,8 @@ void BM_TapHitsFrfFit(benchmark::State& state) {
   const auto rec = tap_record();
   for (auto _ : state) {
     const auto hits = frf::detect_hits(rec.force_n, rec.response, 25600);
-    const auto f = frf::compute_frf(rec.force_n, rec.response, hits, frf::ResponseKind::kAcceleration);
+    const auto f =
+        frf::compute_frf(rec.force_n, rec.response, hits, frf::ResponseKind::kAcceleration);
     const auto fit = frf::fit_modes(f);
     benchmark::DoNotOptimize(fit.fit_nrmse_pct);
   }
@@ -81,7 +82,8 @@ void BM_CsvLoad(benchmark::State& state) {
     benchmark::DoNotOptimize(t.channel("Fy")[0]);
   }
   state.SetItemsProcessed(state.iterations() * rows * 3);
-  state.SetBytesProcessed(state.iterations() * static_cast<int64_t>(std::filesystem::file_size(file)));
+  state.SetBytesProcessed(state.iterations() *
+                          static_cast<int64_t>(std::filesystem::file_size(file)));
 }
 BENCHMARK(BM_CsvLoad)->Arg(1 << 20)->Unit(benchmark::kMillisecond);
 

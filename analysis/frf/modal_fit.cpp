@@ -349,8 +349,8 @@ ModalFit fit_modes(const Frf& frf, const ModalFitOptions& o) {
         fmt("%g modes (", static_cast<double>(n_modes)) + limited +
         fmt(" Hz): half-power bandwidth 2 zeta fn is below %g df = ", o.resolution_warning_bins) +
         fmt("%.3g Hz, so zeta and c are estimates from ", o.resolution_warning_bins * frf.df_hz) +
-        fmt("%.2g to ", bins_lo) + fmt("%.2g bins; longer records (finer df) would resolve them",
-                                       bins_hi));
+        fmt("%.2g to ", bins_lo) +
+        fmt("%.2g bins; longer records (finer df) would resolve them", bins_hi));
   }
   if (fit.fit_nrmse_pct < 80.0) {
     fit.summary.warnings.push_back(

@@ -52,17 +52,17 @@ struct ModalFitOptions {
 struct ModeQuality {
   // 2 zeta fn < resolution_warning_bins * df: zeta and c are estimates from few bins.
   bool resolution_limited = false;
-  double half_power_bins = 0.0;     // 2 zeta fn / df
-  bool negative_constant = false;   // A < 0: not a driving-point FRF (m, c, k use |A|)
-  bool at_bound = false;            // the fit ended on a bound of wn or zeta
+  double half_power_bins = 0.0;    // 2 zeta fn / df
+  bool negative_constant = false;  // A < 0: not a driving-point FRF (m, c, k use |A|)
+  bool at_bound = false;           // the fit ended on a bound of wn or zeta
 };
 
 struct ModalFit {
   StepSummary summary;
-  std::vector<Mode> modes;     // sorted by frequency, exponential window removed
+  std::vector<Mode> modes;           // sorted by frequency, exponential window removed
   std::vector<ModeQuality> quality;  // one per mode, same order
-  double fit_nrmse_pct = 0.0;  // 004 eq. 3.2 on the complex receptance over the band
-  Eigen::VectorXcd fitted;     // the fitted model (window included) on frf.f_hz
+  double fit_nrmse_pct = 0.0;        // 004 eq. 3.2 on the complex receptance over the band
+  Eigen::VectorXcd fitted;           // the fitted model (window included) on frf.f_hz
   double band_lo_hz = 0.0;
   double band_hi_hz = 0.0;
   // Residual terms of the fitted model (0 without them):

@@ -51,7 +51,8 @@ TEST(Campaign, WrongFormatStringAndBadName) {
   TempDir d;
   d.write("campaign.yaml", "format: chatterlab-campaign/2\nname: bad name!\n");
   const CampaignSpec c = load_campaign(d.path());
-  EXPECT_TRUE(any_contains(c.errors, "campaign.yaml: key 'format' 'chatterlab-campaign/2': must be"));
+  EXPECT_TRUE(
+      any_contains(c.errors, "campaign.yaml: key 'format' 'chatterlab-campaign/2': must be"));
   EXPECT_TRUE(any_contains(c.errors, "campaign.yaml: key 'name' 'bad name!': must match"));
 }
 
@@ -104,8 +105,8 @@ TEST(Campaign, UnknownKindAndMissingFile) {
   ASSERT_EQ(c.tests.size(), 2u);
   EXPECT_TRUE(any_contains(c.tests[0].errors,
                            "a/test.yaml: key 'kind' 'grinding-wheel' is not a known test kind"));
-  EXPECT_TRUE(any_contains(c.tests[1].errors,
-                           "b/test.yaml: key 'data.file' 'hits.csv': file not found"));
+  EXPECT_TRUE(
+      any_contains(c.tests[1].errors, "b/test.yaml: key 'data.file' 'hits.csv': file not found"));
 }
 
 TEST(Campaign, RawFileNeedsChannelList) {

@@ -166,7 +166,8 @@ TEST(ReportEndToEnd, BrokenTestsAreSkippedAndTheRestRuns) {
     EXPECT_FALSE(t[id].contains("modes")) << id;  // no number from a failed step
     return t[id]["skip_reason"].get<std::string>();
   };
-  EXPECT_EQ(reason("broken/ragged"), "broken/ragged/h.csv: line 3 has 1 cells, the header has 2 (ragged row)");
+  EXPECT_EQ(reason("broken/ragged"),
+            "broken/ragged/h.csv: line 3 has 1 cells, the header has 2 (ragged row)");
   EXPECT_EQ(reason("broken/nan"), "broken/nan/h.csv: NaN value at line 3, column 'force'");
   EXPECT_NE(reason("broken/nohit").find("no hit above threshold"), std::string::npos);
   EXPECT_NE(reason("broken/kind").find("'laser-scan' is not a known test kind"), std::string::npos);
@@ -213,7 +214,8 @@ TEST(ReportEndToEnd, RealImpactCampaignWithPdf) {
   // 810.21 Hz and 899.99 Hz; a fitted mode within half a bin (df = 1 Hz) of each.
   for (const double peak : {810.21, 899.99}) {
     double best = 1e9;
-    for (const auto& m : t["modes"]) best = std::min(best, std::abs(m["fn_hz"].get<double>() - peak));
+    for (const auto& m : t["modes"])
+      best = std::min(best, std::abs(m["fn_hz"].get<double>() - peak));
     EXPECT_LT(best, 0.5) << peak;
   }
   EXPECT_GT(t["fit_nrmse_pct"].get<double>(), 85.0);

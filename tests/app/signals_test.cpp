@@ -84,8 +84,7 @@ TEST(Signals, NanAndInfiniteSamples) {
   const auto f = d.write("h.csv", "force,response\n1,2\nnan,2\n");
   EXPECT_EQ(message_of(spec(f)), "t/h.csv: NaN value at line 3, column 'force'");
   const auto r = d.write("s.f32", raw_bytes<float>({1, 2, INFINITY, 4}));
-  EXPECT_EQ(message_of(spec(r, {"x", "y"})),
-            "t/s.f32: infinite value at channel 'x', sample 1");
+  EXPECT_EQ(message_of(spec(r, {"x", "y"})), "t/s.f32: infinite value at channel 'x', sample 1");
 }
 
 TEST(Signals, MissingFileAndMissingChannel) {
