@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <regex>
+#include <cctype>
 #include <set>
 
 #include "app/yaml_reader.h"
@@ -242,7 +242,10 @@ CampaignSpec load_campaign(const fs::path& root_in) {
       r.error("format", "'" + format + "': must be '" + kCampaignFormat + "'");
     }
     c.name = r.required_string(root, "name");
-    if (!c.name.empty() && !std::regex_match(c.name, std::regex("[A-Za-z0-9._-]+"))) {
+    const bool name_ok = std::all_of(c.name.begin(), c.name.end(), [](char ch) {
+      return std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '_' || ch == '-';
+    });
+    if (!c.name.empty() && !name_ok) {
       r.error("name", "'" + c.name + "': must match [A-Za-z0-9._-]+");
     }
     c.description = r.optional_string(root, "description").value_or("");

@@ -1,0 +1,197 @@
+#include "app/simulation_spec.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+
+#include "analysis/common/summary.h"
+#include "app/yaml_reader.h"
+
+namespace chatterlab::app {
+namespace {
+
+constexpr double kMm = 1e-3;
+
+ModalSpec read_modal(const YAML::Node& n, YamlReader& r, const std::string& path) {
+  r.check_keys(n, {"m_kg", "c_kg_s", "k_N_m"}, path);
+  ModalSpec m;
+  m.m_kg = r.required_double(n, "m_kg", path);
+  m.c_kg_s = r.required_double(n, "c_kg_s", path);
+  m.k_N_m = r.required_double(n, "k_N_m", path);
+  if (!(m.m_kg > 0)) r.error(path + ".m_kg", "must be > 0");
+  if (!(m.c_kg_s >= 0)) r.error(path + ".c_kg_s", "must be >= 0");
+  if (!(m.k_N_m > 0)) r.error(path + ".k_N_m", "must be > 0");
+  return m;
+}
+
+// A number (every tooth) or a list of one value per tooth.
+std::vector<double> per_tooth(const YAML::Node& map, const std::string& key, int teeth,
+                              YamlReader& r) {
+  const std::string path = "coefficients." + key;
+  const YAML::Node n = map[key];
+  std::vector<double> v;
+  if (!n) {
+    r.error(path, "is missing");
+    return v;
+  }
+  try {
+    if (n.IsScalar()) {
+      v.assign(static_cast<std::size_t>(std::max(teeth, 1)), n.as<double>());
+    } else if (n.IsSequence()) {
+      for (const auto& e : n) v.push_back(e.as<double>());
+      if (teeth > 0 && static_cast<int>(v.size()) != teeth) {
+        r.error(path, "has " + std::to_string(v.size()) +
+                          " values: give one number or one per tooth (" + std::to_string(teeth) +
+                          ")");
+      }
+    } else {
+      r.error(path, "must be a number or a list of numbers, one per tooth");
+    }
+  } catch (const YAML::Exception&) {
+    r.error(path, "must be a number or a list of numbers, one per tooth");
+  }
+  for (double x : v) {
+    if (!(x >= 0)) r.error(path, "values must be >= 0");
+  }
+  return v;
+}
+
+}  // namespace
+
+SimulationSpec load_simulation_spec(const std::filesystem::path& file) {
+  const std::string label = file.filename().string();
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(file.string());
+  } catch (const YAML::Exception& e) {
+    throw InputError(label + ": cannot read (" + std::string(e.what()) + ")");
+  }
+  YamlReader r(label);
+  SimulationSpec s;
+  if (!root.IsMap()) throw InputError(label + ": must be a YAML mapping of keys");
+  r.check_keys(root, {"format", "tool", "modal", "coefficients", "cut", "chip_model",
+                      "steps_per_tooth", "inertial", "poincare_depths_mm"});
+  const auto format = r.required_string(root, "format");
+  if (!format.empty() && format != "chatterlab-simulation/1") {
+    r.error("format", "'" + format + "': must be 'chatterlab-simulation/1'");
+  }
+  const YAML::Node tool = root["tool"];
+  if (!tool || !tool.IsMap()) {
+    r.error("tool", "must be {teeth, radius_mm}");
+  } else {
+    r.check_keys(tool, {"teeth", "radius_mm", "helix_deg"}, "tool");
+    const double teeth = r.required_double(tool, "teeth", "tool");
+    if (!(teeth >= 1) || teeth != std::floor(teeth)) {
+      r.error("tool.teeth", "must be a whole number >= 1");
+    } else {
+      s.teeth = static_cast<int>(teeth);
+    }
+    s.radius_m = r.required_double(tool, "radius_mm", "tool") * kMm;
+    if (!(s.radius_m > 0)) r.error("tool.radius_mm", "must be > 0");
+  }
+  const YAML::Node modal = root["modal"];
+  if (!modal || !modal.IsMap()) {
+    r.error("modal", "must be {m_kg, c_kg_s, k_N_m} or {x: {...}, y: {...}}");
+  } else if (modal["x"] || modal["y"]) {
+    r.check_keys(modal, {"x", "y"}, "modal");
+    s.x = read_modal(modal["x"], r, "modal.x");
+    s.y = read_modal(modal["y"], r, "modal.y");
+  } else {
+    s.x = s.y = read_modal(modal, r, "modal");
+  }
+  const YAML::Node k = root["coefficients"];
+  if (!k || !k.IsMap()) {
+    r.error("coefficients", "must be {Kt_N_m2: ..., Kr_N_m2: ...}");
+  } else {
+    r.check_keys(k, {"Kt_N_m2", "Kr_N_m2"}, "coefficients");
+    s.Kt_N_m2 = per_tooth(k, "Kt_N_m2", s.teeth, r);
+    s.Kr_N_m2 = per_tooth(k, "Kr_N_m2", s.teeth, r);
+  }
+  const YAML::Node cut = root["cut"];
+  if (!cut || !cut.IsMap()) {
+    r.error("cut", "must be a mapping (operation, spindle_rpm, feed_per_tooth_mm, ...)");
+  } else {
+    r.check_keys(cut,
+                 {"operation", "spindle_rpm", "feed_per_tooth_mm", "radial_immersion_mm",
+                  "axial_depth_mm", "revolutions_per_mm", "revolutions"},
+                 "cut");
+    s.operation = r.optional_string(cut, "operation", "cut").value_or("up-milling");
+    if (s.operation != "up-milling" && s.operation != "down-milling") {
+      r.error("cut.operation", "must be up-milling or down-milling, got '" + s.operation + "'");
+    }
+    s.spindle_rpm = r.required_double(cut, "spindle_rpm", "cut");
+    if (!(s.spindle_rpm > 0)) r.error("cut.spindle_rpm", "must be > 0");
+    s.feed_per_tooth_m = r.required_double(cut, "feed_per_tooth_mm", "cut") * kMm;
+    if (!(s.feed_per_tooth_m > 0)) r.error("cut.feed_per_tooth_mm", "must be > 0");
+    s.radial_immersion_m = r.required_double(cut, "radial_immersion_mm", "cut") * kMm;
+    if (!(s.radial_immersion_m > 0)) r.error("cut.radial_immersion_mm", "must be > 0");
+    if (s.radius_m > 0 && s.radial_immersion_m > 2 * s.radius_m) {
+      r.error("cut.radial_immersion_mm", "must not exceed the tool diameter");
+    }
+    if (auto d = r.optional_number_or_pair(cut, "axial_depth_mm", "cut")) {
+      s.depth_start_m = d->first * kMm;
+      s.depth_end_m = d->second * kMm;
+      if (d->first < 0 || d->second < 0) r.error("cut.axial_depth_mm", "must be >= 0");
+    } else if (!cut["axial_depth_mm"]) {
+      r.error("cut.axial_depth_mm", "is missing");
+    }
+    s.revolutions_per_mm = r.optional_double(cut, "revolutions_per_mm", "cut");
+    if (auto n = r.optional_double(cut, "revolutions", "cut")) {
+      if (!(*n >= 1) || *n != std::floor(*n)) {
+        r.error("cut.revolutions", "must be a whole number >= 1");
+      } else {
+        s.revolutions = static_cast<int>(*n);
+      }
+    }
+    const bool ramp = s.depth_start_m != s.depth_end_m;
+    if (ramp && !s.revolutions_per_mm) {
+      r.error("cut.revolutions_per_mm", "is required when axial_depth_mm changes (the ramp rate)");
+    }
+    if (s.revolutions_per_mm && !(*s.revolutions_per_mm > 0)) {
+      r.error("cut.revolutions_per_mm", "must be > 0");
+    }
+    if (!ramp && !s.revolutions) {
+      r.error("cut.revolutions", "is required for a constant axial depth (run length)");
+    }
+  }
+  s.chip_model = r.optional_string(root, "chip_model").value_or("traditional");
+  if (s.chip_model != "traditional" && s.chip_model != "numerical") {
+    r.error("chip_model", "must be traditional or numerical, got '" + s.chip_model + "'");
+  }
+  const double spt = r.optional_double(root, "steps_per_tooth").value_or(800);
+  if (!(spt >= 8) || spt != std::floor(spt)) {
+    r.error("steps_per_tooth", "must be a whole number >= 8");
+  } else {
+    s.steps_per_tooth = static_cast<int>(spt);
+  }
+  if (const YAML::Node in = root["inertial"]; in) {
+    r.check_keys(in, {"enabled", "eccentricity_m", "eccentricity_angle_rad"}, "inertial");
+    try {
+      s.inertial = in["enabled"] ? in["enabled"].as<bool>() : false;
+    } catch (const YAML::Exception&) {
+      r.error("inertial.enabled", "must be true or false");
+    }
+    s.eccentricity_m = r.optional_double(in, "eccentricity_m", "inertial").value_or(0.0);
+    s.eccentricity_angle_rad =
+        r.optional_double(in, "eccentricity_angle_rad", "inertial").value_or(0.0);
+  }
+  if (const YAML::Node p = root["poincare_depths_mm"]; p) {
+    if (!p.IsSequence()) {
+      r.error("poincare_depths_mm", "must be a list of depths in mm");
+    } else {
+      try {
+        for (const auto& e : p) s.poincare_depths_m.push_back(e.as<double>() * kMm);
+      } catch (const YAML::Exception&) {
+        r.error("poincare_depths_mm", "must be a list of depths in mm");
+      }
+    }
+  }
+  if (!r.errors().empty()) {
+    std::string msg;
+    for (const auto& e : r.errors()) msg += (msg.empty() ? "" : "\n") + e;
+    throw InputError(msg);
+  }
+  return s;
+}
+
+}  // namespace chatterlab::app

@@ -1,0 +1,35 @@
+// The simulation spec of EXPERIMENT_FORMAT.md section 3 (`chatterlab simulate`).
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace chatterlab::app {
+
+struct ModalSpec {
+  double m_kg = 0, c_kg_s = 0, k_N_m = 0;
+};
+
+struct SimulationSpec {
+  int teeth = 0;
+  double radius_m = 0;
+  ModalSpec x, y;                        // `modal` for both, or modal.x / modal.y
+  std::vector<double> Kt_N_m2, Kr_N_m2;  // one per tooth (a single number fills every tooth)
+  std::string operation = "up-milling";
+  double spindle_rpm = 0, feed_per_tooth_m = 0, radial_immersion_m = 0;
+  double depth_start_m = 0, depth_end_m = 0;
+  std::optional<double> revolutions_per_mm;  // ramp rate (depth changes)
+  std::optional<int> revolutions;            // constant depth: run length
+  std::string chip_model = "traditional";    // traditional | numerical
+  int steps_per_tooth = 800;
+  bool inertial = false;
+  double eccentricity_m = 0, eccentricity_angle_rad = 0;
+  std::vector<double> poincare_depths_m;
+};
+
+// Reads and validates a spec; throws InputError listing every problem with file and key.
+SimulationSpec load_simulation_spec(const std::filesystem::path& file);
+
+}  // namespace chatterlab::app
