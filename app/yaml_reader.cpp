@@ -39,6 +39,15 @@ int edit_distance(const std::string& a, const std::string& b) {
   return prev[b.size()];
 }
 
+bool looks_like(const std::string& written, const std::string& wanted) {
+  if (written == wanted) return false;
+  if (edit_distance(written, wanted) <= 2) return true;
+  const auto& shorter = written.size() < wanted.size() ? written : wanted;
+  const auto& longer = written.size() < wanted.size() ? wanted : written;
+  return shorter.size() >= 4 && longer.compare(0, shorter.size(), shorter) == 0 &&
+         longer[shorter.size()] == '_';
+}
+
 std::string YamlReader::key_path(const std::string& path, const std::string& key) const {
   return path.empty() ? key : path + "." + key;
 }
@@ -55,11 +64,11 @@ std::string YamlReader::missing_message(const YAML::Node& map, const std::string
   std::string msg = "is missing";
   if (map.IsMap()) {
     std::string best;
-    int best_d = 3;
+    int best_d = 1 << 20;
     for (const auto& kv : map) {
       const auto k = kv.first.as<std::string>();
       const int d = edit_distance(k, key);
-      if (d > 0 && d < best_d) {
+      if (looks_like(k, key) && d < best_d) {
         best_d = d;
         best = k;
       }
@@ -180,7 +189,7 @@ void YamlReader::check_keys(const YAML::Node& map, const std::set<std::string>& 
     if (known.count(k)) continue;
     std::string hint;
     for (const auto& cand : known) {
-      if (edit_distance(k, cand) <= 2) hint = " (did you mean '" + cand + "'?)";
+      if (looks_like(k, cand)) hint = " (did you mean '" + cand + "'?)";
     }
     warn(key_path(path, k), "is not part of the format and is ignored" + hint);
   }

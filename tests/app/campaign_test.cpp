@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "app/yaml_reader.h"
 #include "tests/support/temp_campaign.h"
 
 namespace chatterlab::app {
@@ -71,6 +72,16 @@ TEST(Campaign, MissingAndMisspeltRequiredKey) {
   EXPECT_TRUE(any_contains(c.tests[0].warnings,
                            "key 'sample_rte_hz' is not part of the format and is ignored (did you "
                            "mean 'sample_rate_hz'?)"));
+}
+
+TEST(Campaign, KeyWithoutItsUnitSuffixIsAMisspelling) {
+  EXPECT_TRUE(looks_like("sample_rate", "sample_rate_hz"));
+  EXPECT_TRUE(looks_like("feed_per_tooth", "feed_per_tooth_mm"));
+  EXPECT_TRUE(looks_like("smaple_rate_hz", "sample_rate_hz"));
+  EXPECT_TRUE(looks_like("data", "data_rate"));  // prefix up to a unit suffix
+  EXPECT_FALSE(looks_like("dat", "data_rate"));  // too short to say
+  EXPECT_FALSE(looks_like("kind", "axis"));
+  EXPECT_FALSE(looks_like("axis", "axis"));
 }
 
 TEST(Campaign, WrongTypeNamesFileKeyAndValue) {

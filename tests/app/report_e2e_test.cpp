@@ -145,6 +145,20 @@ TEST(ReportEndToEnd, BrokenTestsAreSkippedAndTheRestRuns) {
   d.write("broken/kind/test.yaml", "kind: laser-scan\nsample_rate_hz: 1\ndata: {file: h.csv}\n");
   d.write("broken/kind/h.csv", "a\n1\n");
   d.write("broken/missing/test.yaml", "kind: dyno-slot\nsample_rate_hz: 1000\n");
+  const std::string tap_head = "kind: tap\naxis: x\nresponse: velocity\n";
+  d.write("broken/type/test.yaml", tap_head + "sample_rate_hz: fast\ndata: {file: h.csv}\n");
+  d.write("broken/type/h.csv", "force,response\n1,2\n");
+  d.write("broken/rate/test.yaml", tap_head + "sample_rate_hz: -5\ndata: {file: h.csv}\n");
+  d.write("broken/rate/h.csv", "force,response\n1,2\n");
+  d.write("broken/cell/test.yaml", tap_head + "sample_rate_hz: 100\ndata: {file: h.csv}\n");
+  d.write("broken/cell/h.csv", "force,response\n1,2\n1,2x\n");
+  d.write("broken/nofile/test.yaml", tap_head + "sample_rate_hz: 100\ndata: {file: gone.csv}\n");
+  d.write("broken/misspelt/test.yaml", tap_head + "sample_rate: 100\ndata: {file: h.csv}\n");
+  d.write("broken/misspelt/h.csv", "force,response\n1,2\n");
+  d.write("broken/truncated/test.yaml",
+          "kind: dyno-slot\nspindle_rpm: 500\nfeed_per_tooth_mm: 0.1\naxial_depth_mm: 2\n"
+          "sample_rate_hz: 10000\ndata: {file: rec.f32, channels: [Fx, Fy, zero]}\n");
+  d.write("broken/truncated/rec.f32", std::string(4 * 3 * 100 + 8, '\0'));
 
   std::ostringstream log;
   ReportOptions opt;
@@ -152,7 +166,7 @@ TEST(ReportEndToEnd, BrokenTestsAreSkippedAndTheRestRuns) {
   ASSERT_EQ(run_report(d.path(), d.path() / "out", opt, log), 0) << log.str();
   const json r = read_json(d.path() / "out/results.json");
   const json& t = r["tests"];
-  ASSERT_EQ(t.size(), 8u);
+  ASSERT_EQ(t.size(), 14u);
   for (const char* id : {"2026-11-20/dyno/a", "2026-11-20/dyno/b", "2026-11-20/dyno/c"}) {
     EXPECT_EQ(t[id]["status"], "ok") << id << t[id].dump();
     // theta_dyn defined modulo 180 deg; -0.41 rad = -23.49 deg.
@@ -174,6 +188,20 @@ TEST(ReportEndToEnd, BrokenTestsAreSkippedAndTheRestRuns) {
   EXPECT_NE(reason("broken/missing").find("broken/missing/test.yaml: key 'data' is missing"),
             std::string::npos);
   EXPECT_NE(reason("broken/missing").find("key 'spindle_rpm' is missing"), std::string::npos);
+  EXPECT_EQ(reason("broken/type"),
+            "broken/type/test.yaml: key 'sample_rate_hz' must be a number, got 'fast'");
+  EXPECT_NE(reason("broken/rate").find("broken/rate/test.yaml: key 'sample_rate_hz' = -5"),
+            std::string::npos);
+  EXPECT_EQ(reason("broken/cell"),
+            "broken/cell/h.csv: line 3, column 'response': '2x' is not a number");
+  EXPECT_EQ(reason("broken/nofile"),
+            "broken/nofile/test.yaml: key 'data.file' 'gone.csv': file not found");
+  EXPECT_EQ(reason("broken/misspelt"),
+            "broken/misspelt/test.yaml: key 'sample_rate_hz' is missing (found 'sample_rate': "
+            "misspelt?)");
+  EXPECT_EQ(reason("broken/truncated"),
+            "broken/truncated/rec.f32: size 1208 bytes is not a multiple of 3 channels x 4 bytes "
+            "(truncated file or wrong data.channels)");
 
   const std::string html = read_text(d.path() / "out/index.html");
   EXPECT_NE(html.find("line 3 has 1 cells, the header has 2 (ragged row)"), std::string::npos);
