@@ -9,6 +9,7 @@
 #include "analysis/common/summary.h"
 #include "analysis/cutting/slot_synth.h"
 #include "app/signals.h"
+#include "app/synth_cut.h"
 #include "app/synth_tap.h"
 #include "app/yaml_reader.h"
 
@@ -141,7 +142,7 @@ SynthSummary synthesize_campaign(const std::filesystem::path& spec_yaml,
   }
   YamlReader r(label);
   r.check_keys(root, {"format", "name", "description", "seed", "tool", "workpiece", "machine",
-                      "tap", "dyno"});
+                      "tap", "dyno", "cut"});
   const auto format = r.required_string(root, "format");
   if (!format.empty() && format != "chatterlab-synth/1") {
     r.error("format", "'" + format + "': must be 'chatterlab-synth/1'");
@@ -150,11 +151,15 @@ SynthSummary synthesize_campaign(const std::filesystem::path& spec_yaml,
   summary.campaign_name = r.required_string(root, "name");
   const auto seed = static_cast<std::uint64_t>(r.optional_double(root, "seed").value_or(1.0));
   const YAML::Node tool = root["tool"];
-  if (root["dyno"] && !tool) r.error("tool", "is required when the spec has a dyno group");
+  if ((root["dyno"] || root["cut"]) && !tool) {
+    r.error("tool", "is required when the spec has a dyno group or cut tests");
+  }
   std::optional<DynoSpec> dyno;
   if (root["dyno"]) dyno = read_dyno(root["dyno"], r);
   std::optional<TapSynthSpec> tap;
   if (root["tap"]) tap = read_tap_synth(root["tap"], r);
+  std::optional<CutSynthSpec> cut;
+  if (root["cut"]) cut = read_cut_synth(root["cut"], r);
   throw_if_errors(r);
 
   std::filesystem::create_directories(out_dir);
@@ -175,6 +180,11 @@ SynthSummary synthesize_campaign(const std::filesystem::path& spec_yaml,
   std::ostringstream truth_top, truth_tests;
   if (tap) summary.tests_written += write_tap_tests(*tap, seed, out_dir, truth_top, truth_tests);
   if (dyno) summary.tests_written += write_dyno_group(*dyno, seed, out_dir, truth_tests);
+  if (cut) {
+    summary.tests_written += write_cut_tests(*cut, tool["teeth"].as<int>(),
+                                             tool["radius_mm"].as<double>() * 1e-3, seed, out_dir,
+                                             truth_top, truth_tests);
+  }
   write_text(out_dir / "truth.yaml", "# Values used by chatterlab synth to write this campaign.\n" +
                                          truth_top.str() + "tests:\n" + truth_tests.str());
   return summary;

@@ -38,7 +38,41 @@ void check_range(const std::string& field, const std::optional<Range>& r, bool l
   }
 }
 
+void check_density(const std::string& name, const Series& series) {
+  const bool doubles = !series.x.empty() || !series.y.empty();
+  const bool floats = !series.xf.empty() || !series.yf.empty();
+  if (series.style != SeriesStyle::kDensity) {
+    if (floats) fail(name, ": xf/yf (float points) are for SeriesStyle::kDensity only");
+    return;
+  }
+  if (doubles && floats) fail(name, ": both x/y and xf/yf are set: set one pair");
+  if (series.xf.size() != series.yf.size()) {
+    fail(name, ": xf has " + std::to_string(series.xf.size()) + " values, yf has " +
+                   std::to_string(series.yf.size()) + ": must be equal");
+  }
+  const DensityStyle& d = series.density_style;
+  if (!(d.min_alpha > 0.0 && d.min_alpha <= 1.0)) {
+    fail(name + ".density_style.min_alpha", " = " + str(d.min_alpha) + ": must be in (0, 1]");
+  }
+  if (!(d.max_alpha >= d.min_alpha && d.max_alpha <= 1.0)) {
+    fail(name + ".density_style.max_alpha",
+         " = " + str(d.max_alpha) + ": must be in [min_alpha, 1] = [" + str(d.min_alpha) + ", 1]");
+  }
+  if (!(d.full_count >= 0.0 && std::isfinite(d.full_count))) {
+    fail(name + ".density_style.full_count",
+         " = " + str(d.full_count) + ": must be >= 0 (0: auto)");
+  }
+}
+
 }  // namespace
+
+Series Series::density(std::vector<float> x_values, std::vector<float> y_values, std::string legend,
+                       std::string hex_colour) {
+  Series s({}, {}, std::move(legend), SeriesStyle::kDensity, std::move(hex_colour));
+  s.xf = std::move(x_values);
+  s.yf = std::move(y_values);
+  return s;
+}
 
 void validate(const Figure& figure) {
   if (figure.panels.empty()) fail("figure.panels", " is empty: a figure needs at least one panel");
@@ -50,6 +84,9 @@ void validate(const Figure& figure) {
   }
   if (!(figure.font_pt >= 4.0 && figure.font_pt <= 30.0)) {
     fail("figure.font_pt", " = " + str(figure.font_pt) + ": must be in [4, 30] points");
+  }
+  if (!(figure.raster_dpi >= 10.0 && figure.raster_dpi <= 2400.0)) {
+    fail("figure.raster_dpi", " = " + str(figure.raster_dpi) + ": must be in [10, 2400]");
   }
   for (std::size_t p = 0; p < figure.panels.size(); ++p) {
     const Axes& axes = figure.panels[p];
@@ -69,6 +106,7 @@ void validate(const Figure& figure) {
       if (!series.color.empty() && !is_hex_colour(series.color)) {
         fail(name + ".color", " = '" + series.color + "': must be #RRGGBB or empty");
       }
+      check_density(name, series);
     }
   }
 }

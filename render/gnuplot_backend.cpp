@@ -3,6 +3,7 @@
 #include <fstream>
 #include <system_error>
 
+#include "render/density_raster.h"
 #include "render/plot_layout.h"
 #include "render/render_error.h"
 #include "render/subprocess.h"
@@ -58,6 +59,38 @@ void check_dpi(double dpi) {
   }
 }
 
+// Rasterizes every density series of the figure for each output at the size of its plot
+// area there (density_image_path; SVG and PDF share a PNG's raster when rendered with one):
+// the points never reach gnuplot.
+void write_density_images(const Figure& figure, const FigurePlan& plan,
+                          const std::vector<ImageOutput>& outputs,
+                          const std::filesystem::path& dir) {
+  for (std::size_t p = 0; p < plan.panels.size(); ++p) {
+    const Axes& axes = figure.panels[p];
+    for (std::size_t k = 0; k < axes.series.size(); ++k) {
+      const Series& s = axes.series[k];
+      if (s.style != SeriesStyle::kDensity || plan.panels[p].series[k].drawable == 0) continue;
+      DensityOptions options;
+      options.log_x = axes.log_x;
+      options.log_y = axes.log_y;
+      options.color = series_colour(s, k);
+      options.style = s.density_style;
+      for (std::size_t i = 0; i < outputs.size(); ++i) {
+        if (raster_source(outputs, i) != i) continue;  // shares a PNG's raster
+        const PlotBox box = plot_box(figure, plan, p, outputs[i]);
+        const Range& xr = plan.panels[p].x;
+        const Range& yr = plan.panels[p].y;
+        const RgbaImage image =
+            s.xf.empty()
+                ? rasterize_density(s.x, s.y, xr, yr, box.width_px, box.height_px, options)
+                : rasterize_density(s.xf, s.yf, xr, yr, box.width_px, box.height_px, options);
+        write_file(density_image_path(dir, i, p, k),
+                   reinterpret_cast<const char*>(image.rgba.data()), image.rgba.size());
+      }
+    }
+  }
+}
+
 // Plans the figure, writes its data and a script in a temporary folder, runs gnuplot once
 // for all outputs and copies each image to its destination.
 void render_outputs(const Figure& figure, const std::vector<ImageOutput>& outputs) {
@@ -65,11 +98,13 @@ void render_outputs(const Figure& figure, const std::vector<ImageOutput>& output
   const TempDir temp;
   for (std::size_t p = 0; p < plan.panels.size(); ++p) {
     for (std::size_t k = 0; k < plan.panels[p].series.size(); ++k) {
-      if (plan.panels[p].series[k].drawable > 0) {
+      if (plan.panels[p].series[k].drawable > 0 &&
+          figure.panels[p].series[k].style != SeriesStyle::kDensity) {
         write_series(series_data_path(temp.path(), p, k), plan.panels[p].series[k].data);
       }
     }
   }
+  write_density_images(figure, plan, outputs, temp.path());
   std::vector<ImageOutput> in_temp = outputs;
   for (std::size_t i = 0; i < in_temp.size(); ++i) {
     in_temp[i].path = temp.path() / ("figure" + std::to_string(i) + extension(outputs[i].format));

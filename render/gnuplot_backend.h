@@ -1,5 +1,6 @@
 // Figures to image files through gnuplot (gnuplot-nox 5.4: svg, pngcairo and pdfcairo
-// terminals). The data goes to binary files and a script in a private temporary folder,
+// terminals). The data goes to binary files and a script in a private temporary folder
+// (a density series as a raster image of its plot area, counted by density_raster.h),
 // gnuplot runs as `gnuplot -d script.gp` (no init files, no window), and the image is
 // copied to its destination only when gnuplot succeeded. See docs/rendering.md.
 #pragma once

@@ -21,6 +21,10 @@ constexpr const char* kFont = "DejaVu Sans";
 constexpr double kSeriesLineWidthPt = 1.25;
 constexpr double kBorderLineWidthPt = 0.6;
 constexpr double kGridLineWidthPt = 0.4;
+// gnuplot's character width (`set lmargin 10` is 10 of them), in units of the font size,
+// measured with GPVAL_TERM_XMIN: svg 0.70, pngcairo and pdfcairo 0.64 (DejaVu Sans).
+constexpr double kSvgCharEm = 0.70;
+constexpr double kCairoCharEm = 0.64;
 
 // Session-wide style, repeated after each panel's `reset`.
 void write_style(std::ostringstream& s, const Figure& figure) {
@@ -112,6 +116,9 @@ std::string with_clause(const Series& series, const std::string& colour, ImageFo
     case SeriesStyle::kLinePoints:
       w << "with linespoints lw " << num(kSeriesLineWidthPt) << lc << " dt solid pt 7 ps 0.5";
       break;
+    case SeriesStyle::kDensity:  // the legend's marker; the cloud itself is an image
+      w << "with points pt 5 ps 0.6" << lc;
+      break;
   }
   return w.str();
 }
@@ -167,6 +174,59 @@ std::string terminal_command(const Figure& figure, ImageFormat format, double pn
   return s.str();
 }
 
+std::string series_colour(const Series& series, std::size_t index) {
+  return series.color.empty() ? palette_colour(index) : series.color;
+}
+
+PlotBox plot_box(const Figure& figure, const FigurePlan& plan, std::size_t panel,
+                 const ImageOutput& output) {
+  const double em = output.format == ImageFormat::kSvg ? kSvgCharEm : kCairoCharEm;
+  const double char_in = em * figure.font_pt / 72.0;
+  const double left_in = plan.left_margin_chars * char_in;
+  const double right_in = plan.right_margin_chars * char_in;
+  const PanelPlan& p = plan.panels[panel];
+  PlotBox box;
+  if (output.format == ImageFormat::kPng) {
+    // Whole pixels of the canvas terminal_command sets; rows counted from the top. gnuplot
+    // puts `at screen f` at f * canvas pixels (checked by the density figure tests).
+    const double w = std::round(figure.width_in * output.png_dpi);
+    const double h = std::round(figure.height_in * output.png_dpi);
+    const double l = std::round(left_in * output.png_dpi);
+    const double r = w - std::round(right_in * output.png_dpi);
+    const double t = std::round((1.0 - p.top) * h);
+    const double b = std::round((1.0 - p.bottom) * h);
+    box = {
+        l / w, r / w, 1.0 - b / h, 1.0 - t / h, static_cast<int>(r - l), static_cast<int>(b - t)};
+  } else {
+    box.left = left_in / figure.width_in;
+    box.right = 1.0 - right_in / figure.width_in;
+    box.bottom = p.bottom;
+    box.top = p.top;
+    box.width_px =
+        static_cast<int>(std::lround((box.right - box.left) * figure.width_in * figure.raster_dpi));
+    box.height_px = static_cast<int>(
+        std::lround((box.top - box.bottom) * figure.height_in * figure.raster_dpi));
+  }
+  // gnuplot needs an image of at least 2 x 2 pixels.
+  box.width_px = std::max(box.width_px, 2);
+  box.height_px = std::max(box.height_px, 2);
+  return box;
+}
+
+std::size_t raster_source(const std::vector<ImageOutput>& outputs, std::size_t i) {
+  if (outputs[i].format == ImageFormat::kPng) return i;
+  for (std::size_t j = 0; j < outputs.size(); ++j) {
+    if (outputs[j].format == ImageFormat::kPng) return j;
+  }
+  return i;
+}
+
+std::filesystem::path density_image_path(const std::filesystem::path& data_dir, std::size_t output,
+                                         std::size_t p, std::size_t k) {
+  return data_dir / ("o" + std::to_string(output) + "_p" + std::to_string(p) + "_s" +
+                     std::to_string(k) + ".rgba");
+}
+
 std::filesystem::path series_data_path(const std::filesystem::path& data_dir, std::size_t p,
                                        std::size_t k) {
   return data_dir / ("p" + std::to_string(p) + "_s" + std::to_string(k) + ".bin");
@@ -176,7 +236,11 @@ namespace {
 
 // The panels of one image, between `set multiplot` and `unset multiplot`.
 void write_panels(std::ostringstream& s, const Figure& figure, const FigurePlan& plan,
-                  ImageFormat format, const std::filesystem::path& data_dir) {
+                  const std::vector<ImageOutput>& outputs, std::size_t output_index,
+                  const std::filesystem::path& data_dir) {
+  const ImageOutput& output = outputs[output_index];
+  const ImageFormat format = output.format;
+  const std::size_t raster = raster_source(outputs, output_index);
   const std::size_t n = figure.panels.size();
   for (std::size_t p = 0; p < n; ++p) {
     const Axes& axes = figure.panels[p];
@@ -184,9 +248,16 @@ void write_panels(std::ostringstream& s, const Figure& figure, const FigurePlan&
     const bool hide_x = figure.share_x && p + 1 < n;
     s << "\n# panel " << p << "\nreset\n";
     write_style(s, figure);
-    s << "set lmargin " << plan.left_margin_chars << "\nset rmargin " << plan.right_margin_chars
-      << "\nset tmargin at screen " << num(panel.top) << "\nset bmargin at screen "
-      << num(panel.bottom) << "\n";
+    const PlotBox box = plot_box(figure, plan, p, output);
+    if (plan.has_density) {
+      s << "set lmargin at screen " << num(box.left) << "\nset rmargin at screen " << num(box.right)
+        << "\nset tmargin at screen " << num(box.top) << "\nset bmargin at screen "
+        << num(box.bottom) << "\n";
+    } else {
+      s << "set lmargin " << plan.left_margin_chars << "\nset rmargin " << plan.right_margin_chars
+        << "\nset tmargin at screen " << num(panel.top) << "\nset bmargin at screen "
+        << num(panel.bottom) << "\n";
+    }
     if (!axes.title.empty()) {
       s << "set title " << gnuplot_quote(axes.title) << " noenhanced";
       if (panel.legend == LegendPosition::kAbove) {
@@ -209,6 +280,24 @@ void write_panels(std::ostringstream& s, const Figure& figure, const FigurePlan&
 
     std::ostringstream plot;
     std::size_t terms = 0;
+    // Density images first, so every other series draws over them; each spans the x2/y2
+    // axes' [0, width_px] x [0, height_px], i.e. the plot area (see PlotBox).
+    const PlotBox raster_box =
+        raster == output_index ? box : plot_box(figure, plan, p, outputs[raster]);
+    bool x2y2 = false;
+    for (std::size_t k = 0; k < axes.series.size(); ++k) {
+      if (axes.series[k].style != SeriesStyle::kDensity || panel.series[k].drawable == 0) continue;
+      if (!x2y2) {
+        s << "set x2range [0:" << raster_box.width_px
+          << "]\nset y2range [0:" << raster_box.height_px << "]\n";
+        x2y2 = true;
+      }
+      plot << (terms++ ? ", \\\n     " : "plot ")
+           << gnuplot_quote(density_image_path(data_dir, raster, p, k).string())
+           << " binary array=(" << raster_box.width_px << "," << raster_box.height_px
+           << ") format='%uchar%uchar%uchar%uchar' flipy origin=(0.5,0.5) dx=1 dy=1 axes x2y2"
+           << " with rgbalpha notitle";
+    }
     if (!panel.has_data) {
       // An empty first term: gnuplot 5.4 asserts (uses_axis) on a plot of only keyentry.
       plot << "plot NaN notitle";
@@ -216,7 +305,8 @@ void write_panels(std::ostringstream& s, const Figure& figure, const FigurePlan&
     }
     for (std::size_t k = 0; k < axes.series.size(); ++k) {
       const Series& series = axes.series[k];
-      const std::string colour = series.color.empty() ? palette_colour(k) : series.color;
+      if (series.style == SeriesStyle::kDensity && series.label.empty()) continue;
+      const std::string colour = series_colour(series, k);
       const std::string title =
           series.label.empty()
               ? "notitle"
@@ -224,8 +314,9 @@ void write_panels(std::ostringstream& s, const Figure& figure, const FigurePlan&
                     gnuplot_quote(series.label + (panel.series[k].drawable ? "" : " (no data)")) +
                     " noenhanced";
       plot << (terms++ ? ", \\\n     " : "plot ");
-      if (panel.series[k].drawable == 0) {
-        // Nothing to draw: gnuplot would stop on an empty file; keep the legend entry.
+      if (panel.series[k].drawable == 0 || series.style == SeriesStyle::kDensity) {
+        // Nothing to draw (gnuplot would stop on an empty file), or a density series, drawn
+        // as an image above: only the legend entry.
         plot << "keyentry " << with_clause(series, colour, format) << " " << title;
       } else {
         plot << gnuplot_quote(series_data_path(data_dir, p, k).string())
@@ -244,12 +335,13 @@ std::string gnuplot_script(const Figure& figure, const FigurePlan& plan,
                            const std::filesystem::path& data_dir) {
   std::ostringstream s;
   s << "# chatterlab figure: " << figure.panels.size() << " panel(s)\n";
-  for (const ImageOutput& output : outputs) {
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    const ImageOutput& output = outputs[i];
     s << "\n"
       << terminal_command(figure, output.format, output.png_dpi) << "\n"
       << "set output " << gnuplot_quote(output.path.string()) << "\n"
       << "set multiplot\n";
-    write_panels(s, figure, plan, output.format, data_dir);
+    write_panels(s, figure, plan, outputs, i, data_dir);
     s << "\nunset multiplot\nset output\n";
   }
   return s.str();

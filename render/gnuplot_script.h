@@ -30,6 +30,38 @@ struct ImageOutput {
   double png_dpi = 150.0;  // kPng only
 };
 
+// The plot area of a panel on one output and the raster that covers it. Figures with a
+// density series fix all four margins at screen positions (the left and right ones from the
+// plan's character counts at the terminal's own character width, so the layout matches the
+// same figure without density), and the raster is placed on the x2/y2 axes spanning
+// [0, width_px] x [0, height_px]: it fills the plot area whatever the x/y axes are (log too).
+// On a PNG the edges fall on pixel boundaries and the raster maps one to one onto the
+// image's pixels; on SVG and PDF the raster has Figure::raster_dpi and is scaled to fit.
+struct PlotBox {
+  double left = 0.0;  // screen fractions, 0 at the left and bottom edges of the canvas
+  double right = 1.0;
+  double bottom = 0.0;
+  double top = 1.0;
+  int width_px = 1;  // raster size
+  int height_px = 1;
+};
+PlotBox plot_box(const Figure& figure, const FigurePlan& plan, std::size_t panel,
+                 const ImageOutput& output);
+
+// Which output's raster output i draws: its own, except that an SVG or PDF written in the
+// same run as a PNG shares the first PNG's (gnuplot scales it to the plot area, whose aspect
+// differs by the terminals' character widths, ~1 %), so render_report_figure counts once.
+std::size_t raster_source(const std::vector<ImageOutput>& outputs, std::size_t i);
+
+// The density image of series k of panel p for output number `output` inside data_dir:
+// o<output>_p<p>_s<k>.rgba, raw 8-bit RGBA rows from the top (RgbaImage::rgba). Raw, not PNG:
+// gnuplot reads PNG through libgd, whose 7-bit alpha turns transparent into 1/255 opaque.
+std::filesystem::path density_image_path(const std::filesystem::path& data_dir, std::size_t output,
+                                         std::size_t p, std::size_t k);
+
+// The colour a series is drawn in: its own, else palette_colour(index in its panel).
+std::string series_colour(const Series& series, std::size_t index);
+
 // The whole script, drawing the figure once per output. Text from the caller (titles,
 // labels, legend entries) is quoted for gnuplot and drawn literally (`noenhanced`): quotes,
 // underscores, ^, @ and $ are safe.

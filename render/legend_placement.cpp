@@ -35,7 +35,8 @@ CornerChoice least_covered_corner(const Axes& axes, const PanelPlan& panel, doub
   constexpr double kStep = 0.01;  // line segments are sampled every 1 % of the plot size
   for (std::size_t k = 0; k < panel.series.size(); ++k) {
     const XY& d = panel.series[k].data;
-    const bool line = axes.series[k].style != SeriesStyle::kPoints;
+    const bool line = axes.series[k].style != SeriesStyle::kPoints &&
+                      axes.series[k].style != SeriesStyle::kDensity;
     double pu = std::nan(""), pv = std::nan("");
     for (std::size_t i = 0; i < d.x.size(); ++i) {
       if (!drawable(d.x[i], d.y[i], axes.log_x, axes.log_y)) {

@@ -10,7 +10,6 @@
 namespace chatterlab::render {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 // Height of one text line in units of the font size (gnuplot's own spacing is ~1.2).
 constexpr double kLineEm = 1.25;
 // Average advance of a DejaVu Sans character in units of the font size.
@@ -22,16 +21,6 @@ constexpr double kKeySpacing = 1.15;
 
 double to_axis(double v, bool log) { return log ? std::log10(v) : v; }
 double from_axis(double v, bool log) { return log ? std::pow(10.0, v) : v; }
-
-struct Extent {
-  double lo = kInf;
-  double hi = -kInf;
-  bool empty() const { return lo > hi; }
-  void add(double v) {
-    lo = std::min(lo, v);
-    hi = std::max(hi, v);
-  }
-};
 
 // Text sizes in inches for the figure's font.
 struct Metrics {
@@ -57,7 +46,61 @@ Range range_from(const Extent& e, bool log, double pad) {
   return Range{from_axis(lo, log), from_axis(hi, log)};
 }
 
+// Calls f(x, y) for every point of a series, whichever payload (double or float) it holds.
+template <class F>
+void for_each_point(const Series& s, F&& f) {
+  if (!s.xf.empty()) {
+    for (std::size_t i = 0; i < s.xf.size(); ++i) {
+      f(static_cast<double>(s.xf[i]), static_cast<double>(s.yf[i]));
+    }
+  } else {
+    for (std::size_t i = 0; i < s.x.size(); ++i) f(s.x[i], s.y[i]);
+  }
+}
+
+// A density series: its drawable count and extents in one pass; no data to write.
+SeriesPlan plan_density(const Series& s, const Axes& axes) {
+  SeriesPlan plan;
+  for_each_point(s, [&](double x, double y) {
+    if (!drawable(x, y, axes.log_x, axes.log_y)) return;
+    ++plan.drawable;
+    plan.density_x.add(to_axis(x, axes.log_x));
+    plan.density_y.add(to_axis(y, axes.log_y));
+  });
+  return plan;
+}
+
+// The centres of the legend-grid cells over the panel that a density series touches.
+XY touched_cells(const Series& s, const Axes& axes, const PanelPlan& panel) {
+  const double x0 = to_axis(panel.x.min, axes.log_x), x1 = to_axis(panel.x.max, axes.log_x);
+  const double y0 = to_axis(panel.y.min, axes.log_y), y1 = to_axis(panel.y.max, axes.log_y);
+  constexpr std::size_t n = kLegendGridCells;
+  const double cells = static_cast<double>(n);
+  std::vector<unsigned char> touched(n * n, 0);
+  for_each_point(s, [&](double x, double y) {
+    if (!drawable(x, y, axes.log_x, axes.log_y)) return;
+    const double u = (to_axis(x, axes.log_x) - x0) / (x1 - x0);
+    const double v = (to_axis(y, axes.log_y) - y0) / (y1 - y0);
+    if (!(u >= 0.0 && u <= 1.0 && v >= 0.0 && v <= 1.0)) return;
+    const auto i = std::min(n - 1, static_cast<std::size_t>(u * cells));
+    const auto j = std::min(n - 1, static_cast<std::size_t>(v * cells));
+    touched[j * n + i] = 1;
+  });
+  XY centres;
+  for (std::size_t j = 0; j < n; ++j) {
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!touched[j * n + i]) continue;
+      centres.x.push_back(
+          from_axis(x0 + (static_cast<double>(i) + 0.5) / cells * (x1 - x0), axes.log_x));
+      centres.y.push_back(
+          from_axis(y0 + (static_cast<double>(j) + 0.5) / cells * (y1 - y0), axes.log_y));
+    }
+  }
+  return centres;
+}
+
 SeriesPlan plan_series(const Series& s, const Axes& axes, std::size_t max_bins) {
+  if (s.style == SeriesStyle::kDensity) return plan_density(s, axes);
   SeriesPlan plan;
   if (max_bins > 0 && s.x.size() > 4 * max_bins) {
     plan.data = s.style == SeriesStyle::kPoints
@@ -75,7 +118,26 @@ SeriesPlan plan_series(const Series& s, const Axes& axes, std::size_t max_bins) 
 // Drawable x (or y, for points inside the panel's x range) in axis coordinates.
 Extent data_extent(const Axes& axes, const PanelPlan& panel, bool of_y) {
   Extent e;
-  for (const auto& s : panel.series) {
+  for (std::size_t k = 0; k < panel.series.size(); ++k) {
+    const SeriesPlan& s = panel.series[k];
+    if (axes.series[k].style == SeriesStyle::kDensity) {
+      if (s.drawable == 0) continue;
+      if (!of_y) {
+        e.add(s.density_x.lo);
+        e.add(s.density_x.hi);
+      } else if (s.density_x.lo >= to_axis(panel.x.min, axes.log_x) &&
+                 s.density_x.hi <= to_axis(panel.x.max, axes.log_x)) {
+        e.add(s.density_y.lo);
+        e.add(s.density_y.hi);
+      } else {  // a fixed x range cuts the cloud: y of the points inside it
+        for_each_point(axes.series[k], [&](double x, double y) {
+          if (drawable(x, y, axes.log_x, axes.log_y) && x >= panel.x.min && x <= panel.x.max) {
+            e.add(to_axis(y, axes.log_y));
+          }
+        });
+      }
+      continue;
+    }
     for (std::size_t i = 0; i < s.data.x.size(); ++i) {
       const double x = s.data.x[i], y = s.data.y[i];
       if (!drawable(x, y, axes.log_x, axes.log_y)) continue;
@@ -133,6 +195,11 @@ void plan_ranges(const Figure& figure, FigurePlan& plan) {
     }
     panel.y = axes.y_range ? *axes.y_range
                            : range_from(data_extent(axes, panel, true), axes.log_y, kPadFraction);
+    for (std::size_t k = 0; k < axes.series.size(); ++k) {
+      if (axes.series[k].style == SeriesStyle::kDensity && panel.series[k].drawable > 0) {
+        panel.series[k].data = touched_cells(axes.series[k], axes, panel);
+      }
+    }
   }
 }
 
@@ -267,6 +334,7 @@ FigurePlan plan_figure(const Figure& figure) {
     for (const auto& s : figure.panels[p].series) {
       panel.series.push_back(plan_series(s, figure.panels[p], figure.max_bins));
       panel.has_data = panel.has_data || panel.series.back().drawable > 0;
+      plan.has_density = plan.has_density || s.style == SeriesStyle::kDensity;
     }
     // Explicit positions first, so the first layout already has the right margins.
     const bool fixed = figure.panels[p].legend != LegendPosition::kAuto;

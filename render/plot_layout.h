@@ -3,7 +3,9 @@
 // decisions are testable without gnuplot.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 #include "render/axis_tics.h"
@@ -12,10 +14,31 @@
 
 namespace chatterlab::render {
 
-struct SeriesPlan {
-  XY data;                   // what is written to the data file (maybe reduced)
-  std::size_t drawable = 0;  // points of `data` that can be drawn
+// The smallest interval holding some values (empty: lo > hi).
+struct Extent {
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -std::numeric_limits<double>::infinity();
+  bool empty() const { return lo > hi; }
+  void add(double v) {
+    lo = std::min(lo, v);
+    hi = std::max(hi, v);
+  }
 };
+
+struct SeriesPlan {
+  // What is written to the data file (maybe reduced). kDensity: nothing is written (the
+  // points stay in the Series and go to the rasterizer); `data` holds the centres of the
+  // cells of a kLegendGridCells-square grid over the panel that the cloud touches, which is
+  // what legend placement counts as its samples.
+  XY data;
+  std::size_t drawable = 0;  // points that can be drawn (kDensity: of the Series itself)
+  Extent density_x;          // kDensity: drawable points' extent in axis units (log10 on a
+  Extent density_y;          // log axis), so the ranges need no second pass over millions
+};
+
+// A density cloud counts for legend placement as one sample per touched cell of this many
+// cells a side, like a line sampled every 1 % of the plot.
+inline constexpr std::size_t kLegendGridCells = 100;
 
 struct PanelPlan {
   std::vector<SeriesPlan> series;  // one per Axes::series, same order
@@ -33,6 +56,8 @@ struct PanelPlan {
 
 struct FigurePlan {
   std::vector<PanelPlan> panels;
+  bool has_density = false;    // some panel has a kDensity series: margins are fixed at
+                               // screen positions (gnuplot_script.h, plot_box)
   int left_margin_chars = 10;  // the same for every panel, so stacked panels align
   int right_margin_chars = 3;
 };

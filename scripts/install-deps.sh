@@ -8,7 +8,7 @@ PACKAGES=(
   libeigen3-dev libfftw3-dev libceres-dev libyaml-cpp-dev
   nlohmann-json3-dev libkainjow-mustache-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  gnuplot-nox libosmesa6-dev
+  gnuplot-nox libosmesa6-dev libpng-dev
   libssl-dev weasyprint poppler-utils fonts-dejavu-core
 )
 

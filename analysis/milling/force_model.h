@@ -59,5 +59,23 @@ ToothForce tooth_force(const CuttingCoefficients& k, double chip_thickness_m, do
 //   Fx = -(F_t cos theta + F_r sin theta),   Fy = F_t sin theta - F_r cos theta.
 Eigen::Vector2d tooth_force_xy_N(const ToothForce& f, double theta_rad);
 
+// Per-tooth forces with the chip's sign kept, for the switching function by angle alone
+// (000 sec. 2.2 read literally: g = 1 in the engagement window whatever the chip):
+//   F_t = g (Ktc b w + Kte b),   F_r = g (Krc b w + Kre b)   for any w (negative: pulling).
+inline ToothForce tooth_force_signed(const CuttingCoefficients& k, double chip_thickness_m,
+                                     double depth_m, bool engaged) {
+  ToothForce f;
+  if (!engaged) return f;
+  f.tangential_N = k.Ktc_N_per_m2 * depth_m * chip_thickness_m + k.Kte_N_per_m * depth_m;
+  f.radial_N = k.Krc_N_per_m2 * depth_m * chip_thickness_m + k.Kre_N_per_m * depth_m;
+  return f;
+}
+
+// tooth_force_xy_N with sin(theta) and cos(theta) given (a simulator precomputes them per step).
+inline Eigen::Vector2d tooth_force_xy_N(const ToothForce& f, double sin_theta, double cos_theta) {
+  return {-(f.tangential_N * cos_theta + f.radial_N * sin_theta),
+          f.tangential_N * sin_theta - f.radial_N * cos_theta};
+}
+
 }  // namespace milling
 }  // namespace chatterlab

@@ -1,0 +1,267 @@
+#include "app/synth_cut.h"
+
+#include <cmath>
+#include <fstream>
+#include <random>
+
+#include "analysis/common/summary.h"
+#include "analysis/milling/simulation.h"
+#include "app/signals.h"
+
+namespace chatterlab::app {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kMm = 1e-3;
+constexpr double kTachHigh_V = 5.0;
+
+std::string num(double v) {
+  std::ostringstream s;
+  s.precision(10);
+  s << v;
+  return s.str();
+}
+
+std::vector<double> numbers(const YAML::Node& n, const std::string& path, YamlReader& r) {
+  std::vector<double> v;
+  try {
+    if (n.IsScalar()) {
+      v.push_back(n.as<double>());
+    } else if (n.IsSequence()) {
+      for (const auto& e : n) v.push_back(e.as<double>());
+    } else {
+      r.error(path, "must be a number or a list of numbers");
+    }
+  } catch (const YAML::Exception&) {
+    r.error(path, "must be a number or a list of numbers");
+  }
+  return v;
+}
+
+// Tachometer: 0 V, 5 V for `width` samples after each instant where theta_1 equals the
+// offset angle. Edges are two-sample linear ramps centred on the true instant: both samples
+// around the crossing lie on the ramp, so linear interpolation at half amplitude recovers the
+// instant exactly (a one-sample ramp leaves one of them clamped on the plateau).
+double tach_volts(double theta1, double offset_rad, double samples_per_rad, double width) {
+  double u = std::fmod(theta1 - offset_rad, 2 * kPi);
+  if (u < 0) u += 2 * kPi;
+  u *= samples_per_rad;  // samples since the edge, in [0, P)
+  const double period = 2 * kPi * samples_per_rad;
+  if (u > period / 2) u -= period;  // just before the edge: negative
+  const double rise = std::clamp(0.5 * (u + 1.0), 0.0, 1.0);
+  const double fall = std::clamp(0.5 * (width - u + 1.0), 0.0, 1.0);
+  return kTachHigh_V * std::min(rise, fall);
+}
+
+}  // namespace
+
+CutSynthSpec read_cut_synth(const YAML::Node& n, YamlReader& r) {
+  CutSynthSpec s;
+  const std::string p = "cut";
+  r.check_keys(n, {"sample_rate_hz", "spindle_rpm", "feed_per_tooth_mm", "radial_immersion_mm",
+                   "operation", "modal", "coefficients", "sensor_to_tip", "scale_m_per_V",
+                   "noise_m", "runout_um", "runout_angle_deg", "out_of_round_um",
+                   "air_revolutions", "tests"},
+               p);
+  s.fs_hz = r.optional_double(n, "sample_rate_hz", p).value_or(s.fs_hz);
+  s.spindle_rpm = r.optional_double(n, "spindle_rpm", p).value_or(s.spindle_rpm);
+  s.feed_per_tooth_m =
+      r.optional_double(n, "feed_per_tooth_mm", p).value_or(s.feed_per_tooth_m / kMm) * kMm;
+  s.radial_immersion_m =
+      r.optional_double(n, "radial_immersion_mm", p).value_or(s.radial_immersion_m / kMm) * kMm;
+  s.operation = r.optional_string(n, "operation", p).value_or(s.operation);
+  if (s.operation != "up-milling" && s.operation != "down-milling") {
+    r.error("cut.operation", "must be up-milling or down-milling");
+  }
+  const YAML::Node modal = n["modal"];
+  if (!modal || !modal.IsMap()) {
+    r.error("cut.modal", "must be {m_kg, c_kg_s, k_N_m}");
+  } else {
+    s.modal.m_kg = r.required_double(modal, "m_kg", "cut.modal");
+    s.modal.c_kg_s = r.required_double(modal, "c_kg_s", "cut.modal");
+    s.modal.k_N_m = r.required_double(modal, "k_N_m", "cut.modal");
+  }
+  const YAML::Node k = n["coefficients"];
+  if (!k || !k.IsMap() || !k["Kt_N_m2"] || !k["Kr_N_m2"]) {
+    r.error("cut.coefficients", "must be {Kt_N_m2: [one per tooth], Kr_N_m2: [one per tooth]}");
+  } else {
+    s.Kt_N_m2 = numbers(k["Kt_N_m2"], "cut.coefficients.Kt_N_m2", r);
+    s.Kr_N_m2 = numbers(k["Kr_N_m2"], "cut.coefficients.Kr_N_m2", r);
+  }
+  s.sensor_to_tip = r.optional_double(n, "sensor_to_tip", p).value_or(s.sensor_to_tip);
+  s.scale_m_per_V = r.optional_double(n, "scale_m_per_V", p).value_or(s.scale_m_per_V);
+  s.noise_m = r.optional_double(n, "noise_m", p).value_or(s.noise_m);
+  s.runout_m = r.optional_double(n, "runout_um", p).value_or(s.runout_m * 1e6) * 1e-6;
+  s.runout_angle_deg = r.optional_double(n, "runout_angle_deg", p).value_or(s.runout_angle_deg);
+  if (n["out_of_round_um"]) {
+    s.out_of_round_m.clear();
+    for (double v : numbers(n["out_of_round_um"], "cut.out_of_round_um", r)) {
+      s.out_of_round_m.push_back(v * 1e-6);
+    }
+  }
+  s.air_revolutions = static_cast<int>(
+      r.optional_double(n, "air_revolutions", p).value_or(s.air_revolutions));
+  if (s.air_revolutions < 2) r.error("cut.air_revolutions", "must be >= 2");
+  const YAML::Node tests = n["tests"];
+  if (!tests || !tests.IsSequence() || tests.size() == 0) {
+    r.error("cut.tests", "must be a list of {name, axial_depth_mm, ..., offset_angle_deg}");
+    return s;
+  }
+  for (std::size_t i = 0; i < tests.size(); ++i) {
+    const YAML::Node t = tests[i];
+    const std::string tp = "cut.tests[" + std::to_string(i) + "]";
+    r.check_keys(t, {"name", "axial_depth_mm", "revolutions_per_mm", "duration_s",
+                     "offset_angle_deg"},
+                 tp);
+    CutTestSynth c;
+    c.name = r.required_string(t, "name", tp);
+    const auto depth = r.optional_number_or_pair(t, "axial_depth_mm", tp);
+    if (!depth) {
+      r.error(tp + ".axial_depth_mm", "is missing");
+    } else {
+      c.depth_start_m = depth->first * kMm;
+      c.depth_end_m = depth->second * kMm;
+    }
+    c.revolutions_per_mm = r.optional_double(t, "revolutions_per_mm", tp);
+    c.duration_s = r.optional_double(t, "duration_s", tp);
+    if (depth && depth->first != depth->second && !c.revolutions_per_mm) {
+      r.error(tp + ".revolutions_per_mm", "is required for a ramped depth");
+    }
+    if (depth && depth->first == depth->second && !c.duration_s) {
+      r.error(tp + ".duration_s", "is required for a constant depth");
+    }
+    c.offset_angle_deg = r.required_double(t, "offset_angle_deg", tp);
+    s.tests.push_back(c);
+  }
+  return s;
+}
+
+int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint64_t seed,
+                    const std::filesystem::path& out, std::ostringstream& truth_top,
+                    std::ostringstream& truth_tests) {
+  const double per_rev = s.fs_hz * 60.0 / s.spindle_rpm;  // samples per revolution
+  const auto P = static_cast<int>(std::lround(per_rev));
+  if (std::abs(per_rev - P) > 1e-9 * per_rev || P < 16) {
+    throw InputError("synth: cut.sample_rate_hz * 60 / cut.spindle_rpm = " + num(per_rev) +
+                     ": must be a whole number of samples per revolution (>= 16)");
+  }
+  if (static_cast<int>(s.Kt_N_m2.size()) != teeth || static_cast<int>(s.Kr_N_m2.size()) != teeth) {
+    throw InputError("synth: cut.coefficients need one Kt_N_m2 and one Kr_N_m2 per tooth (" +
+                     std::to_string(teeth) + ")");
+  }
+  // Simulation steps per revolution: a multiple of P (every k-th step is a sample) with at
+  // least 800 steps per tooth pass (000 sec. 5.2) and a whole number of steps per tooth.
+  int S = P;
+  while (S < 800 * teeth || S % teeth != 0) S += P;
+  const int decimation = S / P;
+
+  milling::SimulationOptions o;
+  o.teeth = teeth;
+  o.radius_m = radius_m;
+  o.modal_x = {s.modal.m_kg, s.modal.c_kg_s, s.modal.k_N_m};
+  for (int p = 0; p < teeth; ++p) {
+    o.coefficients.push_back(milling::cutting_coefficients(s.Kt_N_m2[static_cast<std::size_t>(p)],
+                                                           s.Kr_N_m2[static_cast<std::size_t>(p)]));
+  }
+  o.operation = s.operation == "down-milling" ? milling::Operation::kDownMilling
+                                              : milling::Operation::kUpMilling;
+  o.spindle_rpm = s.spindle_rpm;
+  o.feed_per_tooth_m = s.feed_per_tooth_m;
+  o.radial_immersion_m = s.radial_immersion_m;
+  o.steps_per_tooth = S / teeth;
+
+  int written = 0;
+  std::uint64_t test_seed = seed;
+  for (const auto& c : s.tests) {
+    test_seed += 104729;
+    const bool ramp = c.depth_start_m != c.depth_end_m;
+    o.depth = ramp ? milling::DepthProfile::ramp(c.depth_start_m, c.depth_end_m,
+                                                  *c.revolutions_per_mm)
+                   : milling::DepthProfile::constant(
+                         c.depth_start_m,
+                         std::max(1, static_cast<int>(std::ceil(*c.duration_s * s.spindle_rpm / 60))));
+    const milling::SimulationGrid grid = milling::simulation_grid(o);
+    milling::RecordingRequest rec;
+    rec.trace_revolutions = grid.revolutions;
+    const milling::SimulationResult sim = milling::simulate(o, rec);
+    if (!sim.summary.ok) {
+      throw InputError("synth: cut test '" + c.name + "': simulation failed: " + sim.summary.message);
+    }
+    const Eigen::Index n_air = static_cast<Eigen::Index>(s.air_revolutions) * P;
+    const Eigen::Index n_cut = static_cast<Eigen::Index>(grid.revolutions) * P;
+    const Eigen::Index n = n_air + n_cut + 2 * P;  // two revolutions after the cut window
+    Eigen::VectorXd xv(n), yv(n), tach(n);
+    std::mt19937_64 rng(test_seed);
+    std::normal_distribution<double> noise(0.0, s.noise_m);
+    std::uniform_real_distribution<double> phase(0.0, 2 * kPi);
+    std::vector<double> harmonic_phase;
+    for (std::size_t h = 0; h < s.out_of_round_m.size(); ++h) harmonic_phase.push_back(phase(rng));
+    const double offset_rad = c.offset_angle_deg * kPi / 180.0;
+    const double runout_phase = s.runout_angle_deg * kPi / 180.0;
+    const double samples_per_rad = P / (2 * kPi);
+    const std::size_t last_trace = sim.trace.x_m.size() - 1;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double theta1 = 2 * kPi * static_cast<double>(i % P) / P;
+      double x_tip = 0, y_tip = 0;  // air before the cut; after it the tool leaves the part
+      if (i >= n_air && i < n_air + n_cut) {
+        const auto k = std::min(static_cast<std::size_t>((i - n_air) * decimation), last_trace);
+        x_tip = sim.trace.x_m[k];
+        y_tip = sim.trace.y_m[k];
+      }
+      // Contour of the spinning tool seen by the sensors on +x and +y: eccentricity and
+      // out-of-roundness harmonics, fixed in the tool, so periodic in theta_1.
+      double cx = s.runout_m * std::sin(theta1 + runout_phase);
+      double cy = s.runout_m * std::cos(theta1 + runout_phase);
+      for (std::size_t h = 0; h < s.out_of_round_m.size(); ++h) {
+        const double kh = static_cast<double>(h + 2);
+        cx += s.out_of_round_m[h] * std::cos(kh * (kPi / 2 - theta1) + harmonic_phase[h]);
+        cy += s.out_of_round_m[h] * std::cos(kh * (-theta1) + harmonic_phase[h]);
+      }
+      const double x_sensor = (x_tip + noise(rng)) / s.sensor_to_tip + cx;
+      const double y_sensor = (y_tip + noise(rng)) / s.sensor_to_tip + cy;
+      xv[i] = (x_sensor - s.gap_offset_m) / s.scale_m_per_V;  // volts
+      yv[i] = (y_sensor - s.gap_offset_m) / s.scale_m_per_V;
+      tach[i] = tach_volts(theta1, offset_rad, samples_per_rad, 0.05 * P);
+    }
+    const auto dir = out / "cuts" / c.name;
+    std::filesystem::create_directories(dir);
+    write_signals(dir / "signals.f32", {"x", "y", "tach"}, {&xv, &yv, &tach});
+    const double t_rev = 60.0 / s.spindle_rpm;
+    std::ofstream y(dir / "test.yaml");
+    y << "kind: cut\noperation: " << s.operation << "\nspindle_rpm: " << num(s.spindle_rpm)
+      << "\nfeed_per_tooth_mm: " << num(s.feed_per_tooth_m / kMm)
+      << "\nradial_immersion_mm: " << num(s.radial_immersion_m / kMm) << "\naxial_depth_mm: ";
+    if (ramp) {
+      y << "[" << num(c.depth_start_m / kMm) << ", " << num(grid.depth_at_step(grid.steps) / kMm)
+        << "]\n";
+    } else {
+      y << num(c.depth_start_m / kMm) << "\n";
+    }
+    y << "cut_window_s: [" << num(s.air_revolutions * t_rev) << ", "
+      << num((s.air_revolutions + grid.revolutions) * t_rev) << "]\n"
+      << "air_window_s: [0.0, " << num((s.air_revolutions - 1) * t_rev) << "]\n"
+      << "sample_rate_hz: " << num(s.fs_hz) << "\n"
+      << "data: {file: signals.f32, channels: [x, y, tach]}\n"
+      << "channels:\n"
+      << "  x: {scale: " << num(s.scale_m_per_V) << ", offset: " << num(s.gap_offset_m) << "}\n"
+      << "  y: {scale: " << num(s.scale_m_per_V) << ", offset: " << num(s.gap_offset_m) << "}\n"
+      << "  tach: {threshold: 2.5}\n"
+      << "sensor_to_tip: " << num(s.sensor_to_tip) << "\n";
+    if (!y) throw InputError((dir / "test.yaml").string() + ": cannot write");
+    truth_tests << "  cuts/" << c.name << ": {offset_angle_deg: " << num(c.offset_angle_deg) << "}\n";
+    ++written;
+  }
+  if (truth_top.str().find("modal:") == std::string::npos) {
+    truth_top << "modal: {m_kg: " << num(s.modal.m_kg) << ", c_kg_s: " << num(s.modal.c_kg_s)
+              << ", k_N_m: " << num(s.modal.k_N_m) << "}\n";
+  }
+  truth_top << "coefficients: {";
+  for (int p = 0; p < teeth; ++p) {
+    truth_top << (p ? ", " : "") << "Kt" << p + 1 << "_N_m2: " << num(s.Kt_N_m2[static_cast<std::size_t>(p)])
+              << ", Kr" << p + 1 << "_N_m2: " << num(s.Kr_N_m2[static_cast<std::size_t>(p)]);
+  }
+  truth_top << "}\n";
+  return written;
+}
+
+}  // namespace chatterlab::app

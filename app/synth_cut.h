@@ -1,0 +1,57 @@
+// Cut-test part of `chatterlab synth` (docs/synth.md): a milling run simulated with known modal
+// parameters and per-tooth coefficients (analysis/milling), seen through capacitive sensors
+// (sensor_to_tip, volts with scale and gap offset, runout and out-of-roundness contour,
+// measurement noise) with a laser tachometer whose rising edge falls where theta_1 equals the
+// offset angle (EXPERIMENT_FORMAT.md, kind: cut).
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "app/simulation_spec.h"
+#include "app/yaml_reader.h"
+
+namespace chatterlab::app {
+
+struct CutTestSynth {
+  std::string name;                      // folder cuts/<name>
+  double depth_start_m = 0, depth_end_m = 0;
+  std::optional<double> revolutions_per_mm;  // ramp rate when the depth changes
+  std::optional<double> duration_s;          // cutting time at constant depth
+  double offset_angle_deg = 0;
+};
+
+struct CutSynthSpec {
+  double fs_hz = 100000;
+  double spindle_rpm = 15000;
+  double feed_per_tooth_m = 0.0635e-3;
+  double radial_immersion_m = 0.382e-3;
+  std::string operation = "up-milling";
+  ModalSpec modal;                        // same on x and y
+  std::vector<double> Kt_N_m2, Kr_N_m2;   // per tooth
+  double sensor_to_tip = 2.78;            // 000 sec. 3.1
+  double scale_m_per_V = 3.9e-5;          // sensor calibration: metres at the sensor per volt
+  double gap_offset_m = -1.95e-4;         // test.yaml channel offset: sensor at 5 V when centred
+  double noise_m = 5e-7;                  // at the tip (000 sec. 6.1)
+  double runout_m = 3e-6;                 // eccentricity seen at the sensor
+  double runout_angle_deg = 40;
+  std::vector<double> out_of_round_m{8e-7, 3e-7};  // harmonics 2, 3 of the tool contour
+  int air_revolutions = 50;               // spinning before the cut: the air window
+  std::vector<CutTestSynth> tests;
+};
+
+CutSynthSpec read_cut_synth(const YAML::Node& n, YamlReader& r);
+
+// Writes cuts/<name>/ tests (signals.f32 with channels x, y, tach); appends the per-tooth
+// coefficients to truth (top-level `coefficients`) and each test's offset angle.
+int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint64_t seed,
+                    const std::filesystem::path& out, std::ostringstream& truth_top,
+                    std::ostringstream& truth_tests);
+
+}  // namespace chatterlab::app
