@@ -1,8 +1,8 @@
 #include "app/campaign.h"
 
 #include <algorithm>
-#include <cmath>
 #include <cctype>
+#include <cmath>
 #include <set>
 
 #include "app/yaml_reader.h"

@@ -8,6 +8,7 @@
 #include "analysis/common/summary.h"
 #include "app/campaign.h"
 #include "app/report.h"
+#include "app/simulate.h"
 #include "app/synth.h"
 #include "app/validate.h"
 
@@ -19,6 +20,8 @@ const char* kUsage =
     "      analyse every test of the campaign; write index.html, report.pdf, results.json\n"
     "  chatterlab validate <campaign>\n"
     "      list the tests found and every problem; exit 1 when any test is unusable\n"
+    "  chatterlab simulate <spec.yaml> --out <dir> [--no-pdf]\n"
+    "      one milling simulation: bifurcation depth, Poincare maps, figures, results.json\n"
     "  chatterlab synth <spec.yaml> --out <campaign>\n"
     "      write a synthetic campaign with truth.yaml (spec format: docs/synth.md)\n"
     "  chatterlab --version | --help\n";
@@ -72,6 +75,15 @@ int main(int argc, char** argv) {
         return usage_error("report takes one campaign folder and --out <dir>");
       }
       return chatterlab::app::run_report(positional[0], out, report_options, std::cout);
+    }
+    if (cmd == "simulate") {
+      if (positional.size() != 1 || out.empty()) {
+        return usage_error("simulate takes one spec file and --out <dir>");
+      }
+      chatterlab::app::SimulateOptions so;
+      so.pdf = report_options.pdf;
+      so.jobs = report_options.jobs;
+      return chatterlab::app::run_simulate(positional[0], out, so, std::cout);
     }
     if (cmd == "synth") {
       if (positional.size() != 1 || out.empty()) {

@@ -69,8 +69,9 @@ SimulationSpec load_simulation_spec(const std::filesystem::path& file) {
   YamlReader r(label);
   SimulationSpec s;
   if (!root.IsMap()) throw InputError(label + ": must be a YAML mapping of keys");
-  r.check_keys(root, {"format", "tool", "modal", "coefficients", "cut", "chip_model",
-                      "steps_per_tooth", "inertial", "poincare_depths_mm"});
+  r.check_keys(root,
+               {"format", "tool", "modal", "coefficients", "cut", "chip_model", "steps_per_tooth",
+                "inertial", "poincare_depths_mm", "switching", "euler_order"});
   const auto format = r.required_string(root, "format");
   if (!format.empty() && format != "chatterlab-simulation/1") {
     r.error("format", "'" + format + "': must be 'chatterlab-simulation/1'");
@@ -157,6 +158,17 @@ SimulationSpec load_simulation_spec(const std::filesystem::path& file) {
   s.chip_model = r.optional_string(root, "chip_model").value_or("traditional");
   if (s.chip_model != "traditional" && s.chip_model != "numerical") {
     r.error("chip_model", "must be traditional or numerical, got '" + s.chip_model + "'");
+  }
+  s.switching = r.optional_string(root, "switching").value_or("contact");
+  if (s.switching != "contact" && s.switching != "angle-only") {
+    r.error("switching", "must be contact or angle-only, got '" + s.switching + "'");
+  }
+  if (s.switching == "angle-only" && s.chip_model == "numerical") {
+    r.error("switching", "angle-only applies to the traditional chip model only");
+  }
+  s.euler_order = r.optional_string(root, "euler_order").value_or("velocity-first");
+  if (s.euler_order != "velocity-first" && s.euler_order != "position-first") {
+    r.error("euler_order", "must be velocity-first or position-first, got '" + s.euler_order + "'");
   }
   const double spt = r.optional_double(root, "steps_per_tooth").value_or(800);
   if (!(spt >= 8) || spt != std::floor(spt)) {

@@ -24,6 +24,8 @@ struct SimulationSpec {
   std::optional<int> revolutions;            // constant depth: run length
   std::string chip_model = "traditional";    // traditional | numerical
   int steps_per_tooth = 800;
+  std::string switching = "contact";           // contact | angle-only (docs/simulator.md)
+  std::string euler_order = "velocity-first";  // velocity-first | position-first
   bool inertial = false;
   double eccentricity_m = 0, eccentricity_angle_rad = 0;
   std::vector<double> poincare_depths_m;

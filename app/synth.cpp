@@ -181,9 +181,9 @@ SynthSummary synthesize_campaign(const std::filesystem::path& spec_yaml,
   if (tap) summary.tests_written += write_tap_tests(*tap, seed, out_dir, truth_top, truth_tests);
   if (dyno) summary.tests_written += write_dyno_group(*dyno, seed, out_dir, truth_tests);
   if (cut) {
-    summary.tests_written += write_cut_tests(*cut, tool["teeth"].as<int>(),
-                                             tool["radius_mm"].as<double>() * 1e-3, seed, out_dir,
-                                             truth_top, truth_tests);
+    summary.tests_written +=
+        write_cut_tests(*cut, tool["teeth"].as<int>(), tool["radius_mm"].as<double>() * 1e-3, seed,
+                        out_dir, truth_top, truth_tests);
   }
   write_text(out_dir / "truth.yaml", "# Values used by chatterlab synth to write this campaign.\n" +
                                          truth_top.str() + "tests:\n" + truth_tests.str());

@@ -58,10 +58,10 @@ double tach_volts(double theta1, double offset_rad, double samples_per_rad, doub
 CutSynthSpec read_cut_synth(const YAML::Node& n, YamlReader& r) {
   CutSynthSpec s;
   const std::string p = "cut";
-  r.check_keys(n, {"sample_rate_hz", "spindle_rpm", "feed_per_tooth_mm", "radial_immersion_mm",
-                   "operation", "modal", "coefficients", "sensor_to_tip", "scale_m_per_V",
-                   "noise_m", "runout_um", "runout_angle_deg", "out_of_round_um",
-                   "air_revolutions", "tests"},
+  r.check_keys(n,
+               {"sample_rate_hz", "spindle_rpm", "feed_per_tooth_mm", "radial_immersion_mm",
+                "operation", "modal", "coefficients", "sensor_to_tip", "scale_m_per_V", "noise_m",
+                "runout_um", "runout_angle_deg", "out_of_round_um", "air_revolutions", "tests"},
                p);
   s.fs_hz = r.optional_double(n, "sample_rate_hz", p).value_or(s.fs_hz);
   s.spindle_rpm = r.optional_double(n, "spindle_rpm", p).value_or(s.spindle_rpm);
@@ -99,8 +99,8 @@ CutSynthSpec read_cut_synth(const YAML::Node& n, YamlReader& r) {
       s.out_of_round_m.push_back(v * 1e-6);
     }
   }
-  s.air_revolutions = static_cast<int>(
-      r.optional_double(n, "air_revolutions", p).value_or(s.air_revolutions));
+  s.air_revolutions =
+      static_cast<int>(r.optional_double(n, "air_revolutions", p).value_or(s.air_revolutions));
   if (s.air_revolutions < 2) r.error("cut.air_revolutions", "must be >= 2");
   const YAML::Node tests = n["tests"];
   if (!tests || !tests.IsSequence() || tests.size() == 0) {
@@ -110,9 +110,8 @@ CutSynthSpec read_cut_synth(const YAML::Node& n, YamlReader& r) {
   for (std::size_t i = 0; i < tests.size(); ++i) {
     const YAML::Node t = tests[i];
     const std::string tp = "cut.tests[" + std::to_string(i) + "]";
-    r.check_keys(t, {"name", "axial_depth_mm", "revolutions_per_mm", "duration_s",
-                     "offset_angle_deg"},
-                 tp);
+    r.check_keys(
+        t, {"name", "axial_depth_mm", "revolutions_per_mm", "duration_s", "offset_angle_deg"}, tp);
     CutTestSynth c;
     c.name = r.required_string(t, "name", tp);
     const auto depth = r.optional_number_or_pair(t, "axial_depth_mm", tp);
@@ -175,17 +174,18 @@ int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint
   for (const auto& c : s.tests) {
     test_seed += 104729;
     const bool ramp = c.depth_start_m != c.depth_end_m;
-    o.depth = ramp ? milling::DepthProfile::ramp(c.depth_start_m, c.depth_end_m,
-                                                  *c.revolutions_per_mm)
-                   : milling::DepthProfile::constant(
-                         c.depth_start_m,
-                         std::max(1, static_cast<int>(std::ceil(*c.duration_s * s.spindle_rpm / 60))));
+    o.depth =
+        ramp ? milling::DepthProfile::ramp(c.depth_start_m, c.depth_end_m, *c.revolutions_per_mm)
+             : milling::DepthProfile::constant(
+                   c.depth_start_m,
+                   std::max(1, static_cast<int>(std::ceil(*c.duration_s * s.spindle_rpm / 60))));
     const milling::SimulationGrid grid = milling::simulation_grid(o);
     milling::RecordingRequest rec;
     rec.trace_revolutions = grid.revolutions;
     const milling::SimulationResult sim = milling::simulate(o, rec);
     if (!sim.summary.ok) {
-      throw InputError("synth: cut test '" + c.name + "': simulation failed: " + sim.summary.message);
+      throw InputError("synth: cut test '" + c.name +
+                       "': simulation failed: " + sim.summary.message);
     }
     const Eigen::Index n_air = static_cast<Eigen::Index>(s.air_revolutions) * P;
     const Eigen::Index n_cut = static_cast<Eigen::Index>(grid.revolutions) * P;
@@ -248,7 +248,8 @@ int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint
       << "  tach: {threshold: 2.5}\n"
       << "sensor_to_tip: " << num(s.sensor_to_tip) << "\n";
     if (!y) throw InputError((dir / "test.yaml").string() + ": cannot write");
-    truth_tests << "  cuts/" << c.name << ": {offset_angle_deg: " << num(c.offset_angle_deg) << "}\n";
+    truth_tests << "  cuts/" << c.name << ": {offset_angle_deg: " << num(c.offset_angle_deg)
+                << "}\n";
     ++written;
   }
   if (truth_top.str().find("modal:") == std::string::npos) {
@@ -257,8 +258,9 @@ int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint
   }
   truth_top << "coefficients: {";
   for (int p = 0; p < teeth; ++p) {
-    truth_top << (p ? ", " : "") << "Kt" << p + 1 << "_N_m2: " << num(s.Kt_N_m2[static_cast<std::size_t>(p)])
-              << ", Kr" << p + 1 << "_N_m2: " << num(s.Kr_N_m2[static_cast<std::size_t>(p)]);
+    truth_top << (p ? ", " : "") << "Kt" << p + 1
+              << "_N_m2: " << num(s.Kt_N_m2[static_cast<std::size_t>(p)]) << ", Kr" << p + 1
+              << "_N_m2: " << num(s.Kr_N_m2[static_cast<std::size_t>(p)]);
   }
   truth_top << "}\n";
   return written;

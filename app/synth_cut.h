@@ -20,7 +20,7 @@
 namespace chatterlab::app {
 
 struct CutTestSynth {
-  std::string name;                      // folder cuts/<name>
+  std::string name;  // folder cuts/<name>
   double depth_start_m = 0, depth_end_m = 0;
   std::optional<double> revolutions_per_mm;  // ramp rate when the depth changes
   std::optional<double> duration_s;          // cutting time at constant depth
@@ -33,16 +33,16 @@ struct CutSynthSpec {
   double feed_per_tooth_m = 0.0635e-3;
   double radial_immersion_m = 0.382e-3;
   std::string operation = "up-milling";
-  ModalSpec modal;                        // same on x and y
-  std::vector<double> Kt_N_m2, Kr_N_m2;   // per tooth
-  double sensor_to_tip = 2.78;            // 000 sec. 3.1
-  double scale_m_per_V = 3.9e-5;          // sensor calibration: metres at the sensor per volt
-  double gap_offset_m = -1.95e-4;         // test.yaml channel offset: sensor at 5 V when centred
-  double noise_m = 5e-7;                  // at the tip (000 sec. 6.1)
-  double runout_m = 3e-6;                 // eccentricity seen at the sensor
+  ModalSpec modal;                       // same on x and y
+  std::vector<double> Kt_N_m2, Kr_N_m2;  // per tooth
+  double sensor_to_tip = 2.78;           // 000 sec. 3.1
+  double scale_m_per_V = 3.9e-5;         // sensor calibration: metres at the sensor per volt
+  double gap_offset_m = -1.95e-4;        // test.yaml channel offset: sensor at 5 V when centred
+  double noise_m = 5e-7;                 // at the tip (000 sec. 6.1)
+  double runout_m = 3e-6;                // eccentricity seen at the sensor
   double runout_angle_deg = 40;
   std::vector<double> out_of_round_m{8e-7, 3e-7};  // harmonics 2, 3 of the tool contour
-  int air_revolutions = 50;               // spinning before the cut: the air window
+  int air_revolutions = 50;                        // spinning before the cut: the air window
   std::vector<CutTestSynth> tests;
 };
 

@@ -1,0 +1,406 @@
+#include "app/simulate.h"
+
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "analysis/common/summary.h"
+#include "analysis/dynamics/bifurcation.h"
+#include "analysis/dynamics/poincare.h"
+#include "analysis/milling/simulation.h"
+#include "app/format.h"
+#include "app/hashing.h"
+#include "app/parallel.h"
+#include "app/report.h"
+#include "app/results_json.h"
+#include "render/gnuplot_backend.h"
+#include "render/html_to_pdf.h"
+#include "render/mustache_template.h"
+#include "render/render_error.h"
+
+namespace chatterlab::app {
+
+using nlohmann::json;
+
+namespace {
+
+constexpr double kRadToDeg = 57.29577951308232;
+constexpr double kUm = 1e6;  // m -> um
+constexpr double kMmPerM = 1e3;
+
+std::string utc_now() {
+  const std::time_t t = std::time(nullptr);
+  char buf[32];
+  std::strftime(buf, sizeof(buf), "%Y-%m-%d %H:%M UTC", std::gmtime(&t));
+  return buf;
+}
+
+std::vector<double> to_std(const Eigen::VectorXd& v, double scale) {
+  std::vector<double> out(static_cast<std::size_t>(v.size()));
+  for (Eigen::Index i = 0; i < v.size(); ++i) out[static_cast<std::size_t>(i)] = v[i] * scale;
+  return out;
+}
+
+// Revolutions that completed (a diverged run leaves NaN samples after the failure).
+Eigen::Index finite_prefix(const milling::OncePerRevolution& s) {
+  Eigen::Index n = 0;
+  while (n < s.x_m.size() && std::isfinite(s.x_m[n]) && std::isfinite(s.y_m[n])) ++n;
+  return n;
+}
+
+render::Figure bifurcation_figure(const milling::OncePerRevolution& s, Eigen::Index n,
+                                  const std::optional<double>& depth_m) {
+  render::Figure fig;
+  fig.share_x = true;
+  fig.height_in = 4.2;
+  const std::vector<double> depth = to_std(s.depth_m.head(n), kMmPerM);
+  for (const auto& [axis, values] : {std::pair{"x", &s.x_m}, std::pair{"y", &s.y_m}}) {
+    render::Axes& a = fig.panels.emplace_back();
+    a.y_label = std::string(axis) + "_n [um]";
+    render::Series pts(depth, to_std(values->head(n), kUm), std::string(axis) + "_n",
+                       render::SeriesStyle::kPoints);
+    a.series.push_back(pts);
+    if (depth_m) {
+      double lo = 1e300, hi = -1e300;
+      for (double v : pts.y) {
+        lo = std::min(lo, v);
+        hi = std::max(hi, v);
+      }
+      a.series.emplace_back(std::vector<double>{*depth_m * kMmPerM, *depth_m * kMmPerM},
+                            std::vector<double>{lo, hi}, "bifurcation",
+                            render::SeriesStyle::kDashedLine, "#D55E00");
+    }
+  }
+  fig.panels.back().x_label = "axial depth of cut [mm]";
+  return fig;
+}
+
+render::Figure poincare_figure(const std::vector<dynamics::PoincareMap>& maps) {
+  render::Figure fig;
+  fig.height_in = 2.6 * static_cast<double>(maps.size());
+  for (const auto& m : maps) {
+    render::Axes& a = fig.panels.emplace_back();
+    a.title = "depth " + fmt_sig(m.first_depth_m * kMmPerM, 3) + " to " +
+              fmt_sig(m.last_depth_m * kMmPerM, 3) + " mm";
+    a.x_label = "x_(n-1) [um]";
+    a.y_label = "x_n [um]";
+    std::vector<double> px, py;
+    for (Eigen::Index i = 0; i < m.points_m.rows(); ++i) {
+      px.push_back(m.points_m(i, 0) * kUm);
+      py.push_back(m.points_m(i, 1) * kUm);
+    }
+    a.series.emplace_back(px, py, "", render::SeriesStyle::kPoints, "#0072B2");
+    a.legend = render::LegendPosition::kNone;
+  }
+  return fig;
+}
+
+render::Figure revolution_figure(const milling::RevolutionRecord& r, int teeth, bool inertial) {
+  render::Figure fig;
+  fig.share_x = true;
+  fig.height_in = inertial ? 6.0 : 4.6;
+  const std::vector<double> angle = to_std(r.theta1_rad, kRadToDeg);
+  render::Axes& d = fig.panels.emplace_back();
+  d.y_label = "deflection [um]";
+  d.series.emplace_back(angle, to_std(r.x_m, kUm), "x");
+  d.series.emplace_back(angle, to_std(r.y_m, kUm), "y");
+  render::Axes& c = fig.panels.emplace_back();
+  c.y_label = "chip thickness [um]";
+  for (int p = 0; p < teeth; ++p) {
+    c.series.emplace_back(angle, to_std(r.chip_m.col(p), kUm), "tooth " + std::to_string(p + 1));
+  }
+  render::Axes& f = fig.panels.emplace_back();
+  f.y_label = "force [N]";
+  f.series.emplace_back(angle, to_std(r.Fx_N, 1.0), "cutting Fx");
+  f.series.emplace_back(angle, to_std(r.Fy_N, 1.0), "cutting Fy");
+  if (inertial) {
+    f.series.emplace_back(angle, to_std(r.centrifugal_x_N + r.coriolis_x_N, 1.0), "inertial x",
+                          render::SeriesStyle::kDashedLine);
+    f.series.emplace_back(angle, to_std(r.centrifugal_y_N + r.coriolis_y_N, 1.0), "inertial y",
+                          render::SeriesStyle::kDashedLine);
+  }
+  f.x_label = "tool angle theta_1 [deg]";
+  for (auto* a : {&d, &c, &f}) a->x_range = render::Range{0, 360};
+  return fig;
+}
+
+render::Figure overlay_figure(const milling::CompactTrace& t, int steps_per_revolution) {
+  std::vector<float> angle(t.x_m.size()), x_um(t.x_m.size());
+  for (std::size_t i = 0; i < t.x_m.size(); ++i) {
+    angle[i] = static_cast<float>(
+        t.angle_rad[static_cast<Eigen::Index>(i % static_cast<std::size_t>(steps_per_revolution))] *
+        kRadToDeg);
+    x_um[i] = t.x_m[i] * 1e6f;
+  }
+  render::Figure fig;
+  fig.height_in = 3.6;
+  render::Axes& a = fig.panels.emplace_back();
+  a.x_label = "tool angle theta_1 [deg]";
+  a.y_label = "deflection x [um]";
+  a.x_range = render::Range{0, 360};
+  a.series.push_back(
+      render::Series::density(std::move(angle), std::move(x_um), "every revolution", "#0072B2"));
+  a.series.emplace_back(to_std(t.angle_rad, kRadToDeg), to_std(t.mean_x_m, kUm), "mean",
+                        render::SeriesStyle::kLine, "#000000");
+  return fig;
+}
+
+}  // namespace
+
+milling::SimulationOptions simulation_options(const SimulationSpec& s) {
+  milling::SimulationOptions o;
+  o.teeth = s.teeth;
+  o.radius_m = s.radius_m;
+  o.modal_x = {s.x.m_kg, s.x.c_kg_s, s.x.k_N_m};
+  o.modal_y = milling::AxisModal{s.y.m_kg, s.y.c_kg_s, s.y.k_N_m};
+  for (std::size_t p = 0; p < s.Kt_N_m2.size(); ++p) {
+    o.coefficients.push_back(milling::cutting_coefficients(s.Kt_N_m2[p], s.Kr_N_m2.at(p)));
+  }
+  o.operation = s.operation == "down-milling" ? milling::Operation::kDownMilling
+                                              : milling::Operation::kUpMilling;
+  o.spindle_rpm = s.spindle_rpm;
+  o.feed_per_tooth_m = s.feed_per_tooth_m;
+  o.radial_immersion_m = s.radial_immersion_m;
+  o.depth = s.depth_start_m != s.depth_end_m
+                ? milling::DepthProfile::ramp(s.depth_start_m, s.depth_end_m, *s.revolutions_per_mm)
+                : milling::DepthProfile::constant(s.depth_start_m, *s.revolutions);
+  o.chip_model = s.chip_model == "numerical" ? milling::ChipModel::kNumerical
+                                             : milling::ChipModel::kTraditional;
+  o.steps_per_tooth = s.steps_per_tooth;
+  o.switching = s.switching == "angle-only" ? milling::SwitchingRule::kAngleOnly
+                                            : milling::SwitchingRule::kContact;
+  o.euler_order = s.euler_order == "position-first" ? milling::EulerOrder::kPositionFirst
+                                                    : milling::EulerOrder::kVelocityFirst;
+  o.inertial.enabled = s.inertial;
+  o.inertial.eccentricity_m = s.eccentricity_m;
+  o.inertial.eccentricity_angle_rad = s.eccentricity_angle_rad;
+  return o;
+}
+
+int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::path& out,
+                 const SimulateOptions& options, std::ostream& log) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const SimulationSpec spec = load_simulation_spec(spec_file);
+  const milling::SimulationOptions o = simulation_options(spec);
+  const milling::SimulationGrid grid = milling::simulation_grid(o);
+
+  // What to record: the revolution at the first Poincare depth (else the middle of the run,
+  // 000 fig. 5.2 shows 1 mm) in full, and every revolution compactly for the overlay.
+  const double shown_depth = spec.poincare_depths_m.empty()
+                                 ? 0.5 * (grid.depth_start_m + grid.depth_end_m)
+                                 : spec.poincare_depths_m.front();
+  milling::RecordingRequest rec;
+  rec.full_revolutions = {milling::revolution_at_depth(o, shown_depth)};
+  rec.trace_revolutions = grid.revolutions;
+  const milling::SimulationResult sim = milling::simulate(o, rec);
+  const Eigen::Index done = finite_prefix(sim.samples);
+
+  json results;
+  results["format"] = "chatterlab-simulation-results/1";
+  results["chip_model"] = spec.chip_model;
+  results["switching"] = spec.switching;
+  results["euler_order"] = spec.euler_order;
+  results["steps_per_tooth"] = spec.steps_per_tooth;
+  results["revolutions"] = sim.revolutions;
+  results["steps"] = sim.steps;
+  results["runtime_s"] = sim.runtime_s;
+  results["steps_per_s"] = sim.runtime_s > 0 ? static_cast<double>(sim.steps) / sim.runtime_s : 0.0;
+  results["spec_sha256"] = sha256_file(spec_file);
+  std::vector<std::string> warnings;
+
+  std::optional<dynamics::BifurcationResult> bif;
+  std::vector<dynamics::PoincareMap> maps;
+  if (!sim.summary.ok) {
+    results["status"] = "failed";
+    results["message"] = sim.summary.message;
+    warnings.push_back("the run stopped: " + sim.summary.message +
+                       "; the figures show the revolutions before it, and no bifurcation depth "
+                       "is given");
+  } else {
+    results["status"] = "ok";
+    bif = dynamics::detect_bifurcation(sim.samples.depth_m.head(done), sim.samples.x_m.head(done));
+    warnings.insert(warnings.end(), bif->summary.warnings.begin(), bif->summary.warnings.end());
+    if (!bif->summary.ok) {
+      warnings.push_back("bifurcation detection failed: " + bif->summary.message);
+    } else {
+      results["bifurcation_depth_mm"] =
+          bif->bifurcation_depth_m ? json(*bif->bifurcation_depth_m * kMmPerM) : json(nullptr);
+      results["depth_profile"] = dynamics::to_string(bif->profile);
+      results["verdict"] = dynamics::to_string(bif->verdict);
+      json islands = json::array();
+      for (const auto& is : bif->islands) {
+        islands.push_back({{"onset_depth_mm", is.onset_depth_m * kMmPerM},
+                           {"end_depth_mm", is.end_depth_m * kMmPerM}});
+      }
+      results["chatter_islands"] = islands;
+      results["noise_floor_m"] = bif->noise_floor_m;
+    }
+    std::vector<double> depths;
+    for (double d : spec.poincare_depths_m) depths.push_back(d);
+    if (!depths.empty() && done > 0) {
+      maps = dynamics::poincare_maps(sim.samples.depth_m.head(done), sim.samples.x_m.head(done),
+                                     depths);
+      json pj = json::array();
+      for (const auto& m : maps) {
+        json pts = json::array();
+        for (Eigen::Index i = 0; i < m.points_m.rows(); ++i) {
+          pts.push_back({m.points_m(i, 0), m.points_m(i, 1)});
+        }
+        const auto cls =
+            dynamics::classify_orbit(m, bif && bif->summary.ok ? bif->noise_floor_m : 1e-9);
+        pj.push_back({{"depth_mm", m.requested_depth_m * kMmPerM},
+                      {"first_depth_mm", m.first_depth_m * kMmPerM},
+                      {"last_depth_mm", m.last_depth_m * kMmPerM},
+                      {"orbit", dynamics::to_string(cls.shape)},
+                      {"points_m", pts}});
+      }
+      results["poincare"] = pj;
+    }
+  }
+
+  // Figures, in parallel.
+  std::filesystem::create_directories(out / "figures");
+  struct Job {
+    std::string stem;
+    render::Figure fig;
+  };
+  std::vector<Job> jobs;
+  const std::optional<double> shown_bif =
+      bif && bif->summary.ok ? bif->bifurcation_depth_m : std::nullopt;
+  if (done > 0)
+    jobs.push_back({"figures/bifurcation", bifurcation_figure(sim.samples, done, shown_bif)});
+  if (!maps.empty()) jobs.push_back({"figures/poincare", poincare_figure(maps)});
+  if (!sim.records.empty() && sim.records[0].x_m.allFinite()) {
+    jobs.push_back(
+        {"figures/revolution", revolution_figure(sim.records[0], o.teeth, spec.inertial)});
+  }
+  if (sim.summary.ok && !sim.trace.x_m.empty()) {
+    jobs.push_back({"figures/overlay", overlay_figure(sim.trace, sim.steps_per_revolution)});
+  }
+  std::vector<std::string> fig_errors(jobs.size());
+  parallel_for(jobs.size(), options.jobs, [&](std::size_t i) {
+    try {
+      render::render_report_figure(jobs[i].fig, out / jobs[i].stem);
+    } catch (const std::exception& e) {
+      fig_errors[i] = "figure " + jobs[i].stem + " not drawn: " + e.what();
+    }
+  });
+  for (const auto& e : fig_errors) {
+    if (!e.empty()) warnings.push_back(e);
+  }
+  results["warnings"] = warnings;
+  {
+    std::ofstream js(out / "results.json");
+    js << results.dump(2) << "\n";
+  }
+
+  // HTML and PDF.
+  json ctx;
+  ctx["name"] = spec_file.stem().string();
+  ctx["generated_utc"] = utc_now();
+  ctx["version"] = CHATTERLAB_VERSION;
+  ctx["spec_file"] = spec_file.string();
+  ctx["spec_sha256"] = results["spec_sha256"];
+  ctx["tool"] =
+      std::to_string(spec.teeth) + " teeth, radius " + fmt_sig(spec.radius_m * kMmPerM, 4) + " mm";
+  ctx["modal"] =
+      "x: m = " + fmt_sig(spec.x.m_kg, 4) + " kg, c = " + fmt_sig(spec.x.c_kg_s, 4) +
+      " kg/s, k = " + fmt_sig(spec.x.k_N_m, 4) + " N/m; y: m = " + fmt_sig(spec.y.m_kg, 4) +
+      " kg, c = " + fmt_sig(spec.y.c_kg_s, 4) + " kg/s, k = " + fmt_sig(spec.y.k_N_m, 4) + " N/m";
+  std::string k;
+  for (std::size_t p = 0; p < spec.Kt_N_m2.size(); ++p) {
+    k += (p ? "; " : "") + std::string("tooth ") + std::to_string(p + 1) +
+         ": Kt = " + fmt_sig(spec.Kt_N_m2[p], 4) + ", Kr = " + fmt_sig(spec.Kr_N_m2[p], 4) +
+         " N/m\u00b2";
+  }
+  ctx["coefficients"] = k;
+  ctx["cut"] = spec.operation + ", " + fmt_sig(spec.spindle_rpm, 5) + " rpm, feed " +
+               fmt_sig(spec.feed_per_tooth_m * kMmPerM, 4) + " mm/tooth, radial immersion " +
+               fmt_sig(spec.radial_immersion_m * kMmPerM, 4) + " mm, depth " +
+               fmt_sig(spec.depth_start_m * kMmPerM, 3) + " to " +
+               fmt_sig(grid.depth_end_m * kMmPerM, 3) + " mm over " +
+               std::to_string(grid.revolutions) + " revolutions";
+  ctx["model"] = spec.chip_model + " chip thickness (" + spec.switching +
+                 " switching), symplectic Euler (" + spec.euler_order + ") at " +
+                 std::to_string(spec.steps_per_tooth) + " steps per tooth pass" +
+                 (spec.inertial ? ", centrifugal and Coriolis forces" : "");
+  std::string bif_text = "n/a";
+  if (!sim.summary.ok) {
+    bif_text = "not determined: the run stopped (" + sim.summary.message + ")";
+  } else if (bif && bif->summary.ok) {
+    bif_text = bif->bifurcation_depth_m
+                   ? fmt_fixed(*bif->bifurcation_depth_m * kMmPerM, 2) + " mm"
+                   : std::string("none (") + dynamics::to_string(bif->verdict) + ")";
+  }
+  ctx["bifurcation"] = bif_text;
+  ctx["has_bifurcation"] = static_cast<bool>(shown_bif);
+  json islands = json::array();
+  if (bif && bif->summary.ok) {
+    for (const auto& is : bif->islands) {
+      islands.push_back({{"start_mm", fmt_fixed(is.onset_depth_m * kMmPerM, 2)},
+                         {"end_mm", fmt_fixed(is.end_depth_m * kMmPerM, 2)}});
+    }
+  }
+  ctx["islands"] = islands;
+  ctx["summary_line"] = "Bifurcation depth " + bif_text + "; " + std::to_string(sim.steps) +
+                        " steps in " + fmt_sig(sim.runtime_s, 3) + " s";
+  ctx["revolutions"] = sim.revolutions;
+  ctx["steps"] = std::to_string(sim.steps);
+  ctx["runtime_s"] = fmt_sig(sim.runtime_s, 3);
+  ctx["steps_per_s"] = fmt_sig(results["steps_per_s"].get<double>(), 3);
+  ctx["criterion"] =
+      "Bifurcation depth: where the once-per-revolution samples x_n pass between the chatter-free "
+      "orbit and chatter, by the spread of x_n about a local trend against the noise floor "
+      "(docs/bifurcation.md); an incline gives the depth where chatter begins, a decline where "
+      "it ends.";
+  ctx["has_warnings"] = !warnings.empty();
+  ctx["warnings"] = warnings;
+  ctx["fig_bifurcation"] = "figures/bifurcation";
+  ctx["has_poincare"] = !maps.empty();
+  ctx["fig_poincare"] = "figures/poincare";
+  std::string pd;
+  for (const auto& m : maps)
+    pd += (pd.empty() ? "" : ", ") + fmt_sig(m.requested_depth_m * kMmPerM, 3);
+  ctx["poincare_depths"] = pd;
+  json shown = json::array();
+  if (!sim.records.empty() && sim.records[0].x_m.allFinite()) {
+    const auto& r = sim.records[0];
+    shown.push_back({{"fig", "figures/revolution"},
+                     {"caption", "Revolution " + std::to_string(r.revolution + 1) + " (depth " +
+                                     fmt_sig(r.depth_m[0] * kMmPerM, 3) +
+                                     " mm): deflection, chip thickness per tooth and forces" +
+                                     (spec.inertial ? " with the inertial forces (000 figs 7.3-7.4)"
+                                                    : " (000 fig. 5.2)") +
+                                     "."}});
+  }
+  ctx["revolutions_shown"] = shown;
+  ctx["fig_overlay"] = "figures/overlay";
+  ctx["overlay_points"] = std::to_string(sim.trace.x_m.size());
+
+  const auto tdir = templates_dir();
+  std::filesystem::copy_file(tdir / "report.css", out / "report.css",
+                             std::filesystem::copy_options::overwrite_existing);
+  {
+    std::ofstream html(out / "index.html");
+    html << render::render_template_file(tdir / "simulation.html", ctx);
+  }
+  bool pdf_written = false;
+  if (options.pdf) {
+    try {
+      render::html_to_pdf(out / "index.html", out / "report.pdf");
+      pdf_written = true;
+    } catch (const render::RenderError& e) {
+      log << "chatterlab simulate: PDF not written: " << e.what() << "\n";
+    }
+  }
+  const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  log << "simulate: " << sim.revolutions << " revolutions, " << sim.steps << " steps in "
+      << fmt_sig(sim.runtime_s, 3) << " s; bifurcation depth " << bif_text << "; wrote "
+      << (out / "index.html").string() << (pdf_written ? ", report.pdf" : "")
+      << ", results.json in " << fmt_sig(total, 3) << " s\n";
+  return sim.summary.ok && (!options.pdf || pdf_written) ? 0 : 1;
+}
+
+}  // namespace chatterlab::app
