@@ -99,7 +99,8 @@ render::Figure tap_frf_figure(const TestOutcome& t) {
   c.relative_height = 1.0;
   c.series = {coh};
   c.legend = render::LegendPosition::kNone;
-  for (auto* ax : {&a, &p, &c}) ax->x_range = render::Range{lo, hi};
+  // Not through a, p, c: emplace_back may have moved the earlier panels.
+  for (auto& ax : fig.panels) ax.x_range = render::Range{lo, hi};
   return fig;
 }
 

@@ -122,7 +122,8 @@ render::Figure revolution_figure(const milling::RevolutionRecord& r, int teeth, 
                           render::SeriesStyle::kDashedLine);
   }
   f.x_label = "tool angle theta_1 [deg]";
-  for (auto* a : {&d, &c, &f}) a->x_range = render::Range{0, 360};
+  // Not through d, c, f: emplace_back may have moved the earlier panels.
+  for (auto& a : fig.panels) a.x_range = render::Range{0, 360};
   return fig;
 }
 
