@@ -20,7 +20,7 @@ const char* kUsage =
     "      analyse every test of the campaign; write index.html, report.pdf, results.json\n"
     "  chatterlab validate <campaign>\n"
     "      list the tests found and every problem; exit 1 when any test is unusable\n"
-    "  chatterlab simulate <spec.yaml> --out <dir> [--no-pdf]\n"
+    "  chatterlab simulate <spec.yaml> --out <dir> [--no-pdf] [--results-only]\n"
     "      one milling simulation: bifurcation depth, Poincare maps, figures, results.json\n"
     "  chatterlab synth <spec.yaml> --out <campaign>\n"
     "      write a synthetic campaign with truth.yaml (spec format: docs/synth.md)\n"
@@ -47,11 +47,14 @@ int main(int argc, char** argv) {
   std::vector<std::string> positional;
   std::string out;
   chatterlab::app::ReportOptions report_options;
+  bool results_only = false;
   for (std::size_t i = 1; i < args.size(); ++i) {
     if (args[i] == "--out" && i + 1 < args.size()) {
       out = args[++i];
     } else if (args[i] == "--no-pdf") {
       report_options.pdf = false;
+    } else if (args[i] == "--results-only") {
+      results_only = true;
     } else if (args[i] == "--jobs" && i + 1 < args.size()) {
       try {
         report_options.jobs = std::stoi(args[++i]);
@@ -82,6 +85,7 @@ int main(int argc, char** argv) {
       }
       chatterlab::app::SimulateOptions so;
       so.pdf = report_options.pdf;
+      so.report = !results_only;
       so.jobs = report_options.jobs;
       return chatterlab::app::run_simulate(positional[0], out, so, std::cout);
     }

@@ -193,8 +193,10 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
                                  ? 0.5 * (grid.depth_start_m + grid.depth_end_m)
                                  : spec.poincare_depths_m.front();
   milling::RecordingRequest rec;
-  rec.full_revolutions = {milling::revolution_at_depth(o, shown_depth)};
-  rec.trace_revolutions = grid.revolutions;
+  if (options.report) {
+    rec.full_revolutions = {milling::revolution_at_depth(o, shown_depth)};
+    rec.trace_revolutions = grid.revolutions;
+  }
   const milling::SimulationResult sim = milling::simulate(o, rec);
   const Eigen::Index done = finite_prefix(sim.samples);
 
@@ -213,21 +215,35 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
 
   std::optional<dynamics::BifurcationResult> bif;
   std::vector<dynamics::PoincareMap> maps;
+  results["status"] = sim.summary.ok ? "ok" : "diverged";
   if (!sim.summary.ok) {
-    results["status"] = "failed";
+    // The revolutions before the failure are valid; what follows them is not analysed.
     results["message"] = sim.summary.message;
+    results["completed_revolutions"] = done;
     warnings.push_back("the run stopped: " + sim.summary.message +
-                       "; the figures show the revolutions before it, and no bifurcation depth "
-                       "is given");
-  } else {
-    results["status"] = "ok";
-    bif = dynamics::detect_bifurcation(sim.samples.depth_m.head(done), sim.samples.x_m.head(done));
-    warnings.insert(warnings.end(), bif->summary.warnings.begin(), bif->summary.warnings.end());
-    if (!bif->summary.ok) {
-      warnings.push_back("bifurcation detection failed: " + bif->summary.message);
+                       "; the analysis covers the " + std::to_string(done) +
+                       " revolutions before it");
+  }
+  {
+    dynamics::BifurcationOptions bo;
+    bo.measurement_noise_m = spec.detector_noise_m;
+    bo.ends_unbounded = !sim.summary.ok;  // the run diverged: its final growth is chatter
+    const Eigen::Index window = bo.window_revolutions;
+    if (done > window) {
+      bif = dynamics::detect_bifurcation(sim.samples.depth_m.head(done),
+                                         sim.samples.x_m.head(done), bo);
+    }
+    if (bif) {
+      warnings.insert(warnings.end(), bif->summary.warnings.begin(), bif->summary.warnings.end());
     } else {
-      results["bifurcation_depth_mm"] =
-          bif->bifurcation_depth_m ? json(*bif->bifurcation_depth_m * kMmPerM) : json(nullptr);
+      warnings.push_back("too few revolutions for the bifurcation detector");
+    }
+    if (bif && !bif->summary.ok) {
+      warnings.push_back("bifurcation detection failed: " + bif->summary.message);
+    } else if (bif) {
+      results["bifurcation_depth_mm"] = bif->bifurcation_depth_m
+                                            ? json(*bif->bifurcation_depth_m * kMmPerM)
+                                            : json(nullptr);
       results["depth_profile"] = dynamics::to_string(bif->profile);
       results["verdict"] = dynamics::to_string(bif->verdict);
       json islands = json::array();
@@ -261,6 +277,16 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
     }
   }
 
+  if (!options.report) {
+    results["warnings"] = warnings;
+    std::filesystem::create_directories(out);
+    std::ofstream js(out / "results.json");
+    js << results.dump(2) << "\n";
+    log << "simulate: " << sim.revolutions << " revolutions, " << sim.steps << " steps in "
+        << fmt_sig(sim.runtime_s, 3) << " s; wrote " << (out / "results.json").string() << "\n";
+    return 0;
+  }
+
   // Figures, in parallel.
   std::filesystem::create_directories(out / "figures");
   struct Job {
@@ -277,7 +303,7 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
     jobs.push_back(
         {"figures/revolution", revolution_figure(sim.records[0], o.teeth, spec.inertial)});
   }
-  if (sim.summary.ok && !sim.trace.x_m.empty()) {
+  if (sim.summary.ok && !sim.trace.x_m.empty()) {  // the trace of a diverged run holds NaN
     jobs.push_back({"figures/overlay", overlay_figure(sim.trace, sim.steps_per_revolution)});
   }
   std::vector<std::string> fig_errors(jobs.size());
@@ -328,12 +354,15 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
                  std::to_string(spec.steps_per_tooth) + " steps per tooth pass" +
                  (spec.inertial ? ", centrifugal and Coriolis forces" : "");
   std::string bif_text = "n/a";
-  if (!sim.summary.ok) {
-    bif_text = "not determined: the run stopped (" + sim.summary.message + ")";
-  } else if (bif && bif->summary.ok) {
+  if (bif && bif->summary.ok) {
     bif_text = bif->bifurcation_depth_m
                    ? fmt_fixed(*bif->bifurcation_depth_m * kMmPerM, 2) + " mm"
                    : std::string("none (") + dynamics::to_string(bif->verdict) + ")";
+  }
+  if (!sim.summary.ok) {
+    bif_text += "; the run diverged after revolution " + std::to_string(done) + " (depth " +
+                fmt_sig(sim.samples.depth_m[std::max<Eigen::Index>(done - 1, 0)] * kMmPerM, 3) +
+                " mm)";
   }
   ctx["bifurcation"] = bif_text;
   ctx["has_bifurcation"] = static_cast<bool>(shown_bif);
@@ -401,7 +430,7 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
       << fmt_sig(sim.runtime_s, 3) << " s; bifurcation depth " << bif_text << "; wrote "
       << (out / "index.html").string() << (pdf_written ? ", report.pdf" : "")
       << ", results.json in " << fmt_sig(total, 3) << " s\n";
-  return sim.summary.ok && (!options.pdf || pdf_written) ? 0 : 1;
+  return !options.pdf || pdf_written ? 0 : 1;
 }
 
 }  // namespace chatterlab::app

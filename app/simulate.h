@@ -13,7 +13,8 @@ namespace chatterlab::app {
 
 struct SimulateOptions {
   bool pdf = true;
-  int jobs = 0;  // figure threads; 0: one per hardware thread
+  bool report = true;  // false: results.json only (no figures, HTML or PDF), for sweeps
+  int jobs = 0;        // figure threads; 0: one per hardware thread
 };
 
 // The simulator's options for a spec (traditional model: contact switching, velocity-first

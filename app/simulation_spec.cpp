@@ -166,6 +166,8 @@ SimulationSpec load_simulation_spec(const std::filesystem::path& file) {
   if (s.switching == "angle-only" && s.chip_model == "numerical") {
     r.error("switching", "angle-only applies to the traditional chip model only");
   }
+  s.detector_noise_m = r.optional_double(root, "detector_noise_m").value_or(5e-7);
+  if (!(s.detector_noise_m > 0)) r.error("detector_noise_m", "must be > 0");
   s.euler_order = r.optional_string(root, "euler_order").value_or("velocity-first");
   if (s.euler_order != "velocity-first" && s.euler_order != "position-first") {
     r.error("euler_order", "must be velocity-first or position-first, got '" + s.euler_order + "'");

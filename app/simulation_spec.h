@@ -29,6 +29,10 @@ struct SimulationSpec {
   bool inertial = false;
   double eccentricity_m = 0, eccentricity_angle_rad = 0;
   std::vector<double> poincare_depths_m;
+  // Noise floor the bifurcation detector judges the (noise-free) simulated x_n against: the
+  // measurement noise of 000 sec. 6.1 by default, so that simulated and measured bifurcation
+  // depths are read on one yardstick (docs/bifurcation.md).
+  double detector_noise_m = 5e-7;
 };
 
 // Reads and validates a spec; throws InputError listing every problem with file and key.

@@ -106,7 +106,8 @@ BlockFloor quietest_blocks(const Eigen::VectorXd& e, int block, double quantile)
 std::vector<std::pair<Eigen::Index, Eigen::Index>> chatter_episodes(const Eigen::VectorXd& s,
                                                                     double high, double low,
                                                                     int min_chatter,
-                                                                    int min_stable) {
+                                                                    int min_stable,
+                                                                    bool ends_unbounded) {
   const Eigen::Index n = s.size();
   std::vector<std::pair<Eigen::Index, Eigen::Index>> episodes;
   Eigen::Index previous_end = 0;
@@ -118,7 +119,8 @@ std::vector<std::pair<Eigen::Index, Eigen::Index>> chatter_episodes(const Eigen:
     }
     Eigen::Index core_end = i;  // a run above the entry level: long enough to confirm?
     while (core_end < n && s[core_end] > high) ++core_end;
-    if (core_end - i < min_chatter) {
+    // A final stretch of a run that ended unbounded needs no confirmation (ends_unbounded).
+    if (core_end - i < min_chatter && !(ends_unbounded && core_end == n)) {
       i = core_end;
       continue;
     }
@@ -270,7 +272,8 @@ BifurcationResult detect_bifurcation(const Eigen::Ref<const Eigen::VectorXd>& de
   // States and transitions.
   const auto episodes =
       chatter_episodes(spread.spread, result.enter_threshold_m, result.exit_threshold_m,
-                       options.min_chatter_revolutions, options.min_stable_revolutions);
+                       options.min_chatter_revolutions, options.min_stable_revolutions,
+                       options.ends_unbounded);
   result.state.assign(static_cast<std::size_t>(n), RevolutionState::kStable);
   Eigen::Index chattering = 0;
   for (const auto& [start, end] : episodes) {

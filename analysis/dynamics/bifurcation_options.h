@@ -51,6 +51,11 @@ struct BifurcationOptions {
   // Chatter ends at a quiet stretch (s_n <= exit level) of this many revolutions, or at one
   // that reaches the end of the run whatever its length; shorter ones are bridged.
   int min_stable_revolutions = 61;
+  // The run ended because the motion grew without bound (a simulation that diverged, e.g. the
+  // linear angle-only switching past its stability limit): a final stretch above the entry
+  // level that reaches the run's end is chatter whatever its length, since what followed it
+  // was unbounded. Off for measured data.
+  bool ends_unbounded = false;
 
   // The run is constant-depth when |depth_last - depth_first| <= this (m); otherwise an
   // incline (depth rising) or a decline (falling). 1 um is 1e-3 of a millimetre-scale run.

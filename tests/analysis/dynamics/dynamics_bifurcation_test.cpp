@@ -81,6 +81,25 @@ TEST(Bifurcation, InclineHopfOnsetIsFoundWithEstimatedOrStatedNoise) {
   }
 }
 
+TEST(Bifurcation, RunThatEndsUnboundedCountsItsFinalGrowthAsChatter) {
+  // Truth: chatter from 1.6 mm growing fast (2e-5 m over 0.02 mm); the run stops 40
+  // revolutions after the onset, as a diverging simulation does: too short to confirm.
+  OrbitSpec spec = run(0, 3, 7);
+  spec.chatter.push_back(hopf(1.6, 2e-5, 0.02));
+  const SyntheticOrbit o = synthesize_orbit(spec);
+  const Eigen::Index onset = static_cast<Eigen::Index>(std::lround(1.6 * kRevsPerMm));
+  const Eigen::Index n = onset + 40;
+  BifurcationOptions plain;
+  plain.measurement_noise_m = kNoise;
+  const BifurcationResult r = detect_bifurcation(o.depth_m.head(n), o.x_m.head(n), plain);
+  EXPECT_FALSE(r.bifurcation_depth_m.has_value()) << full_report(r);
+  BifurcationOptions unbounded = plain;
+  unbounded.ends_unbounded = true;
+  const BifurcationResult u = detect_bifurcation(o.depth_m.head(n), o.x_m.head(n), unbounded);
+  ASSERT_TRUE(u.bifurcation_depth_m.has_value()) << full_report(u);
+  EXPECT_NEAR(mm(u.bifurcation_depth_m), 1.6, kDepthTolMm);
+}
+
 TEST(Bifurcation, SlowChatterRotationNumberIsStillFound) {
   // nu = 0.1 (chatter 10 % of the spindle frequency off a harmonic): the window of 61
   // revolutions holds six of its cycles, the local trend removes little of it.
