@@ -50,12 +50,17 @@ Eigen::Index finite_prefix(const milling::OncePerRevolution& s) {
   return n;
 }
 
+// x_n and y_n against depth (000 fig. 5.1), or against the revolution number when the depth
+// is constant.
 render::Figure bifurcation_figure(const milling::OncePerRevolution& s, Eigen::Index n,
-                                  const std::optional<double>& depth_m) {
+                                  const std::optional<double>& depth_m, bool constant_depth) {
   render::Figure fig;
   fig.share_x = true;
   fig.height_in = 4.2;
-  const std::vector<double> depth = to_std(s.depth_m.head(n), kMmPerM);
+  std::vector<double> depth = to_std(s.depth_m.head(n), kMmPerM);
+  if (constant_depth) {
+    for (std::size_t i = 0; i < depth.size(); ++i) depth[i] = static_cast<double>(i + 1);
+  }
   for (const auto& [axis, values] : {std::pair{"x", &s.x_m}, std::pair{"y", &s.y_m}}) {
     render::Axes& a = fig.panels.emplace_back();
     a.y_label = std::string(axis) + "_n [um]";
@@ -73,7 +78,7 @@ render::Figure bifurcation_figure(const milling::OncePerRevolution& s, Eigen::In
                             render::SeriesStyle::kDashedLine, "#D55E00");
     }
   }
-  fig.panels.back().x_label = "axial depth of cut [mm]";
+  fig.panels.back().x_label = constant_depth ? "revolution" : "axial depth of cut [mm]";
   return fig;
 }
 
@@ -220,9 +225,8 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
     // The revolutions before the failure are valid; what follows them is not analysed.
     results["message"] = sim.summary.message;
     results["completed_revolutions"] = done;
-    warnings.push_back("the run stopped: " + sim.summary.message +
-                       "; the analysis covers the " + std::to_string(done) +
-                       " revolutions before it");
+    warnings.push_back("the run stopped: " + sim.summary.message + "; the analysis covers the " +
+                       std::to_string(done) + " revolutions before it");
   }
   {
     dynamics::BifurcationOptions bo;
@@ -230,8 +234,8 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
     bo.ends_unbounded = !sim.summary.ok;  // the run diverged: its final growth is chatter
     const Eigen::Index window = bo.window_revolutions;
     if (done > window) {
-      bif = dynamics::detect_bifurcation(sim.samples.depth_m.head(done),
-                                         sim.samples.x_m.head(done), bo);
+      bif = dynamics::detect_bifurcation(sim.samples.depth_m.head(done), sim.samples.x_m.head(done),
+                                         bo);
     }
     if (bif) {
       warnings.insert(warnings.end(), bif->summary.warnings.begin(), bif->summary.warnings.end());
@@ -241,9 +245,8 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
     if (bif && !bif->summary.ok) {
       warnings.push_back("bifurcation detection failed: " + bif->summary.message);
     } else if (bif) {
-      results["bifurcation_depth_mm"] = bif->bifurcation_depth_m
-                                            ? json(*bif->bifurcation_depth_m * kMmPerM)
-                                            : json(nullptr);
+      results["bifurcation_depth_mm"] =
+          bif->bifurcation_depth_m ? json(*bif->bifurcation_depth_m * kMmPerM) : json(nullptr);
       results["depth_profile"] = dynamics::to_string(bif->profile);
       results["verdict"] = dynamics::to_string(bif->verdict);
       json islands = json::array();
@@ -297,7 +300,8 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
   const std::optional<double> shown_bif =
       bif && bif->summary.ok ? bif->bifurcation_depth_m : std::nullopt;
   if (done > 0)
-    jobs.push_back({"figures/bifurcation", bifurcation_figure(sim.samples, done, shown_bif)});
+    jobs.push_back({"figures/bifurcation", bifurcation_figure(sim.samples, done, shown_bif,
+                                                              grid.depth_per_step_m == 0.0)});
   if (!maps.empty()) jobs.push_back({"figures/poincare", poincare_figure(maps)});
   if (!sim.records.empty() && sim.records[0].x_m.allFinite()) {
     jobs.push_back(
@@ -366,6 +370,8 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
   }
   ctx["bifurcation"] = bif_text;
   ctx["has_bifurcation"] = static_cast<bool>(shown_bif);
+  ctx["bifurcation_axis"] =
+      grid.depth_per_step_m == 0.0 ? "revolution number (constant depth)" : "axial depth of cut";
   json islands = json::array();
   if (bif && bif->summary.ok) {
     for (const auto& is : bif->islands) {
