@@ -3,20 +3,17 @@
 #include <chrono>
 #include <cmath>
 #include <complex>
-#include <ctime>
 #include <fstream>
 #include <future>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "app/document.h"
 #include "app/format.h"
 #include "app/report_figures.h"
 #include "app/results_json.h"
 #include "app/truth.h"
-#include "render/html_to_pdf.h"
-#include "render/mustache_template.h"
-#include "render/render_error.h"
 
 namespace chatterlab::app {
 
@@ -25,13 +22,6 @@ using nlohmann::json;
 namespace {
 
 constexpr double kRadToDeg = 57.29577951308232;
-
-std::string utc_now() {
-  const std::time_t t = std::time(nullptr);
-  char buf[32];
-  std::strftime(buf, sizeof(buf), "%Y-%m-%d %H:%M UTC", std::gmtime(&t));
-  return buf;
-}
 
 std::string kind_note(const TestOutcome& t) {
   if (!t.status.ok) return "";
@@ -185,19 +175,6 @@ json settings_context(const PipelineOptions& p, const ReportOptions& r) {
 
 }  // namespace
 
-std::filesystem::path templates_dir() {
-  if (const char* env = std::getenv("CHATTERLAB_TEMPLATES"); env && *env) return env;
-  std::error_code ec;
-  const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  if (!ec) {
-    for (const auto& cand : {exe.parent_path().parent_path() / "templates",
-                             exe.parent_path().parent_path().parent_path() / "templates"}) {
-      if (std::filesystem::exists(cand / "report.html")) return cand;
-    }
-  }
-  return std::filesystem::path(CHATTERLAB_SOURCE_DIR) / "templates";
-}
-
 int run_report(const std::filesystem::path& campaign_dir, const std::filesystem::path& out,
                const ReportOptions& options, std::ostream& log) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -227,7 +204,7 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
     if (c.tool->helix_deg) tool["helix_deg"] = fmt_sig(*c.tool->helix_deg, 3);
     ctx["campaign"]["tool"] = tool;
   }
-  ctx["generated_utc"] = utc_now();
+  ctx["generated_utc"] = utc_timestamp();
   ctx["version"] = CHATTERLAB_VERSION;
   json tests = json::array(), skipped = json::array(), taps = json::array();
   std::vector<std::string> warnings = c.errors;
@@ -293,26 +270,8 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
     std::ofstream js(out / "results.json");
     js << results_json(r, truth).dump(2) << "\n";
   }
-  const auto tdir = templates_dir();
-  std::filesystem::copy_file(tdir / "report.css", out / "report.css",
-                             std::filesystem::copy_options::overwrite_existing);
-  {
-    std::ofstream html(out / "index.html");
-    html << render::render_template_file(tdir / "report.html", ctx);
-  }
-  int rc = 0;
-  bool pdf_written = false;
-  if (options.pdf) {
-    try {
-      for (const auto& w : render::html_to_pdf(out / "index.html", out / "report.pdf")) {
-        log << "  weasyprint: " << w << "\n";
-      }
-      pdf_written = true;
-    } catch (const render::RenderError& e) {
-      log << "chatterlab report: PDF not written: " << e.what() << "\n";
-      rc = 1;
-    }
-  }
+  const bool pdf_written = write_documents("report.html", ctx, out, options.pdf, "report", log);
+  const int rc = options.pdf && !pdf_written ? 1 : 0;
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   log << "report: " << r.tests.size() << " tests, " << ok << " analysed, "
       << r.tests.size() - static_cast<std::size_t>(ok) << " skipped; wrote "

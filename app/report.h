@@ -19,8 +19,4 @@ struct ReportOptions {
 int run_report(const std::filesystem::path& campaign, const std::filesystem::path& out,
                const ReportOptions& options, std::ostream& log);
 
-// Folder holding report.html and report.css: $CHATTERLAB_TEMPLATES, else templates/ beside
-// the executable's parent folder, else the source tree's templates/.
-std::filesystem::path templates_dir();
-
 }  // namespace chatterlab::app

@@ -2,7 +2,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <ctime>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -10,15 +9,12 @@
 #include "analysis/dynamics/bifurcation.h"
 #include "analysis/dynamics/poincare.h"
 #include "analysis/milling/simulation.h"
+#include "app/document.h"
 #include "app/format.h"
 #include "app/hashing.h"
 #include "app/parallel.h"
-#include "app/report.h"
 #include "app/results_json.h"
 #include "render/gnuplot_backend.h"
-#include "render/html_to_pdf.h"
-#include "render/mustache_template.h"
-#include "render/render_error.h"
 
 namespace chatterlab::app {
 
@@ -29,13 +25,6 @@ namespace {
 constexpr double kRadToDeg = 57.29577951308232;
 constexpr double kUm = 1e6;  // m -> um
 constexpr double kMmPerM = 1e3;
-
-std::string utc_now() {
-  const std::time_t t = std::time(nullptr);
-  char buf[32];
-  std::strftime(buf, sizeof(buf), "%Y-%m-%d %H:%M UTC", std::gmtime(&t));
-  return buf;
-}
 
 std::vector<double> to_std(const Eigen::VectorXd& v, double scale) {
   std::vector<double> out(static_cast<std::size_t>(v.size()));
@@ -330,7 +319,7 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
   // HTML and PDF.
   json ctx;
   ctx["name"] = spec_file.stem().string();
-  ctx["generated_utc"] = utc_now();
+  ctx["generated_utc"] = utc_timestamp();
   ctx["version"] = CHATTERLAB_VERSION;
   ctx["spec_file"] = spec_file.string();
   ctx["spec_sha256"] = results["spec_sha256"];
@@ -415,22 +404,8 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
   ctx["fig_overlay"] = "figures/overlay";
   ctx["overlay_points"] = std::to_string(sim.trace.x_m.size());
 
-  const auto tdir = templates_dir();
-  std::filesystem::copy_file(tdir / "report.css", out / "report.css",
-                             std::filesystem::copy_options::overwrite_existing);
-  {
-    std::ofstream html(out / "index.html");
-    html << render::render_template_file(tdir / "simulation.html", ctx);
-  }
-  bool pdf_written = false;
-  if (options.pdf) {
-    try {
-      render::html_to_pdf(out / "index.html", out / "report.pdf");
-      pdf_written = true;
-    } catch (const render::RenderError& e) {
-      log << "chatterlab simulate: PDF not written: " << e.what() << "\n";
-    }
-  }
+  const bool pdf_written =
+      write_documents("simulation.html", ctx, out, options.pdf, "simulate", log);
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   log << "simulate: " << sim.revolutions << " revolutions, " << sim.steps << " steps in "
       << fmt_sig(sim.runtime_s, 3) << " s; bifurcation depth " << bif_text << "; wrote "
