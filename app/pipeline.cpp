@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "app/hashing.h"
 #include "app/parallel.h"
@@ -37,6 +38,52 @@ void run_dyno_record(const TestSpec& t, const PipelineOptions& o, TestOutcome& o
   }
   out.dyno = std::move(d);
   out.status.succeed();
+}
+
+// The tool mode of a tap test: the fitted mode with the largest peak receptance 1/(c wn)
+// (the most flexible one, which dominates the cut's deflection).
+std::optional<frf::Mode> dominant_mode(const TestOutcome& t) {
+  if (!t.status.ok || !t.tap || !t.tap->fit_ok || t.tap->modes.empty()) return std::nullopt;
+  const frf::Mode* best = nullptr;
+  for (const auto& m : t.tap->modes) {
+    const double peak = 1.0 / (m.c_kg_s * 2 * M_PI * m.fn_hz);
+    if (!best || peak > 1.0 / (best->c_kg_s * 2 * M_PI * best->fn_hz)) best = &m;
+  }
+  return *best;
+}
+
+CutStepInputs cut_inputs(const CampaignResults& r) {
+  CutStepInputs in;
+  in.tool = r.campaign.tool;
+  for (const auto& t : r.tests) {
+    if (t.spec->kind != "tap" || !t.spec->tap) continue;
+    const auto m = dominant_mode(t);
+    if (!m) continue;
+    auto& slot = t.spec->tap->axis == "x" ? in.hammer_x : in.hammer_y;
+    if (!slot) {
+      slot = m;
+      in.hammer_source += (in.hammer_source.empty() ? "" : ", ") + t.spec->id;
+    }
+  }
+  if (r.dyno_group && r.dyno_group->summary.ok) in.coefficients = r.dyno_group->fit.coefficients;
+  return in;
+}
+
+void run_cut(const TestSpec& t, const CutStepInputs& in, TestOutcome& out) {
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    CutOutcome c = run_cut_test(t, in);
+    out.warnings.insert(out.warnings.end(), c.warnings.begin(), c.warnings.end());
+    if (c.summary.ok) {
+      out.status.succeed();
+    } else {
+      out.status.fail(c.summary.message);
+    }
+    out.cut = std::move(c);
+  } catch (const std::exception& e) {
+    out.status.fail(e.what());
+  }
+  out.runtime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 void run_test(const TestSpec& t, const PipelineOptions& o, TestOutcome& out) {
@@ -127,6 +174,15 @@ CampaignResults run_campaign(CampaignSpec campaign, const PipelineOptions& optio
                   [](const TestOutcome& t) { return t.spec->kind == "dyno-slot"; })) {
     r.dyno_group = run_dyno_group(r, options);
   }
+  // Cut tests use the hammer-test modal parameters and dynamometer coefficients (000 sec. 5.1).
+  r.cut_inputs = cut_inputs(r);
+  std::vector<std::size_t> cuts;
+  for (std::size_t i = 0; i < r.tests.size(); ++i) {
+    if (r.campaign.tests[i].kind == "cut" && r.campaign.tests[i].usable()) cuts.push_back(i);
+  }
+  parallel_for(cuts.size(), options.jobs, [&](std::size_t k) {
+    run_cut(r.campaign.tests[cuts[k]], r.cut_inputs, r.tests[cuts[k]]);
+  });
 
   // Provenance: every file read, hashed.
   auto add_input = [&](const fs::path& p) {

@@ -13,6 +13,7 @@
 #include "analysis/cutting/dyno_slot.h"
 #include "analysis/cutting/slot_fit.h"
 #include "app/campaign.h"
+#include "app/cut_step.h"
 #include "app/tap_step.h"
 
 namespace chatterlab::app {
@@ -36,6 +37,7 @@ struct TestOutcome {
   double runtime_s = 0;
   std::optional<TapOutcome> tap;
   std::optional<DynoRecordOutcome> dyno;
+  std::optional<CutOutcome> cut;
 };
 
 struct DynoGroupOutcome {
@@ -55,6 +57,7 @@ struct CampaignResults {
   PipelineOptions options;
   std::vector<TestOutcome> tests;  // same order as campaign.tests
   std::optional<DynoGroupOutcome> dyno_group;
+  CutStepInputs cut_inputs;       // what the cut tests took from the tap tests and dyno group
   std::vector<InputFile> inputs;  // every yaml and signal file read
   double runtime_s = 0;
 };

@@ -31,6 +31,15 @@ std::string kind_note(const TestOutcome& t) {
                     fmt_sig(t.tap->modes.front().fn_hz, 4) + " Hz";
     return s;
   }
+  if (t.cut) {
+    std::string s = t.cut->offset_status.ok
+                        ? "offset " + fmt_fixed(t.cut->offset.search.offset_angle_deg, 2) + " deg"
+                        : std::string("offset not determined");
+    if (t.cut->ramped && t.cut->bifurcation_status.ok && t.cut->bifurcation.bifurcation_depth_m) {
+      s += ", bifurcation " + fmt_fixed(*t.cut->bifurcation.bifurcation_depth_m * 1e3, 2) + " mm";
+    }
+    return s;
+  }
   if (t.dyno) return "theta_dyn " + fmt_fixed(t.dyno->result.theta_dyn_rad * kRadToDeg, 2) + " deg";
   return "";
 }
@@ -77,6 +86,56 @@ json tap_context(const TestOutcome& t, const std::string& figure) {
                      {"k_N_m", fmt_sig(m.k_N_m, 4)}});
   }
   j["modes"] = modes;
+  return j;
+}
+
+json cut_context(const TestOutcome& t, const FigureSet& figures) {
+  const CutOutcome& c = *t.cut;
+  const auto& spec = *t.spec->cut;
+  json j;
+  j["id"] = t.spec->id;
+  std::string depth = fmt_sig(spec.axial_depth_m.first * 1e3, 3) + " mm";
+  if (spec.axial_depth_m.first != spec.axial_depth_m.second) {
+    depth += " to " + fmt_sig(spec.axial_depth_m.second * 1e3, 3) + " mm";
+  }
+  j["conditions"] = spec.operation + ", " + fmt_sig(spec.spindle_rpm, 5) + " rpm, depth " + depth;
+  j["tach_revolutions"] = c.tach.revolutions;
+  j["measured_rpm"] = fmt_sig(c.tach.measured_rpm, 6);
+  j["air_revolutions"] = c.air_revolutions;
+  j["has_warnings"] = !t.warnings.empty();
+  j["warnings"] = t.warnings;
+  const auto it = figures.cut.find(t.spec->id);
+  const auto fig = [&](const char* kind) {
+    if (it == figures.cut.end()) return std::string();
+    const auto k = it->second.find(kind);
+    return k == it->second.end() ? std::string() : k->second;
+  };
+  j["fig_processing"] = fig("processing");
+  j["offset_ok"] = c.offset_status.ok;
+  j["offset_message"] = c.offset_status.message;
+  if (c.offset_status.ok) {
+    const auto& s = c.offset.search;
+    j["offset_deg"] = fmt_fixed(s.offset_angle_deg, 2);
+    j["offset_error_um"] = fmt_sig(s.rms_error_m * 1e6, 3);
+    j["offset_relative_pct"] = fmt_sig(100 * c.offset.relative_error, 3);
+    j["runner_up_deg"] = fmt_fixed(s.runner_up_deg, 2);
+    j["runner_up_ratio"] = fmt_fixed(s.runner_up_ratio, 3);
+    j["offset_depth_mm"] = fmt_sig(c.offset.depth_m * 1e3, 3);
+    j["fig_offset"] = fig("offset");
+  }
+  j["ramped"] = c.ramped;
+  j["bifurcation_ok"] = c.bifurcation_status.ok;
+  j["bifurcation_message"] = c.bifurcation_status.message;
+  if (c.ramped && c.bifurcation_status.ok) {
+    const auto& b = c.bifurcation;
+    j["bifurcation"] = b.bifurcation_depth_m
+                           ? fmt_fixed(*b.bifurcation_depth_m * 1e3, 2) + " mm"
+                           : std::string("none (") + dynamics::to_string(b.verdict) + ")";
+    j["noise_floor_um"] = fmt_sig(b.noise_floor_m * 1e6, 3);
+    j["fig_bifurcation"] = fig("bifurcation");
+    const std::string p = fig("poincare");
+    if (!p.empty()) j["fig_poincare"] = p;
+  }
   return j;
 }
 
@@ -206,7 +265,7 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
   }
   ctx["generated_utc"] = utc_timestamp();
   ctx["version"] = CHATTERLAB_VERSION;
-  json tests = json::array(), skipped = json::array(), taps = json::array();
+  json tests = json::array(), skipped = json::array(), taps = json::array(), cuts = json::array();
   std::vector<std::string> warnings = c.errors;
   warnings.insert(warnings.end(), c.warnings.begin(), c.warnings.end());
   warnings.insert(warnings.end(), truth.warnings.begin(), truth.warnings.end());
@@ -224,7 +283,8 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
       skipped.push_back({{"id", id}, {"reason", t.status.message}});
     }
     if (t.status.ok && t.tap) taps.push_back(tap_context(t, figures.of(t.spec->id)));
-    if (t.status.ok && !t.tap) {
+    if (t.status.ok && t.cut) cuts.push_back(cut_context(t, figures));
+    if (t.status.ok && !t.tap && !t.cut) {
       for (const auto& w : t.warnings) warnings.push_back(id + ": " + w);
     }
   }
@@ -236,6 +296,14 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
   ctx["has_tap"] = !taps.empty();
   ctx["tap_tests"] = taps;
   ctx["has_dyno"] = r.dyno_group.has_value();
+  ctx["has_cut"] = !cuts.empty();
+  ctx["cut_tests"] = cuts;
+  ctx["cut_model"] =
+      r.cut_inputs.hammer_x && r.cut_inputs.coefficients
+          ? "the hammer-test modal parameters (" + r.cut_inputs.hammer_source +
+                ", the mode of largest peak receptance) and the dynamometer coefficients "
+                "(Ktc, Krc of every tooth)"
+          : std::string("the hammer-test and dynamometer values (none available in this campaign)");
   if (r.dyno_group) {
     ctx["dyno"] = dyno_context(r, figures.dyno);
     if (!r.dyno_group->summary.warnings.empty()) {

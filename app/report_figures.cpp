@@ -5,6 +5,7 @@
 #include <complex>
 #include <functional>
 
+#include "app/dynamics_figures.h"
 #include "app/parallel.h"
 #include "render/gnuplot_backend.h"
 #include "render/render_error.h"
@@ -13,6 +14,8 @@ namespace chatterlab::app {
 namespace {
 
 constexpr double kRadToDeg = 57.29577951308232;
+// Between a test id and a figure kind in a job name (a character no folder name holds).
+constexpr char kKindSeparator = '\x1f';
 
 // Appends a phase sample, breaking the line (NaN) where it wraps between +180 and -180 deg
 // so that a wrap draws no vertical stroke across the panel.
@@ -153,6 +156,77 @@ render::Figure dyno_force_figure(const CampaignResults& r) {
   return fig;
 }
 
+render::Figure cut_processing_figure(const CutOutcome& c) {
+  render::Figure fig;
+  fig.height_in = 4.8;
+  render::Axes& k = fig.panels.emplace_back();
+  k.title = "runout contour over " + std::to_string(c.air_revolutions) + " air revolutions";
+  k.x_label = "tachometer phase [deg]";
+  k.y_label = "at the sensor [um]";
+  std::vector<double> ph, cx, cy;
+  for (Eigen::Index i = 0; i < c.contour.phase_rad.size(); ++i) {
+    ph.push_back(c.contour.phase_rad[i] * kRadToDeg);
+    cx.push_back(c.contour.x_m[i] * 1e6);
+    cy.push_back(c.contour.y_m[i] * 1e6);
+  }
+  k.series.emplace_back(ph, cx, "x");
+  k.series.emplace_back(ph, cy, "y");
+  k.x_range = render::Range{0, 360};
+  render::Axes& d = fig.panels.emplace_back();
+  d.title = "three revolutions of the cut";
+  d.x_label = "time [s]";
+  d.y_label = "x at the tip [um]";
+  std::vector<double> t, raw, done;
+  for (Eigen::Index i = 0; i < c.excerpt_t_s.size(); ++i) {
+    t.push_back(c.excerpt_t_s[i]);
+    raw.push_back(c.excerpt_raw_x_m[i] * 1e6);
+    done.push_back(c.excerpt_x_m[i] * 1e6);
+  }
+  // The raw signal carries the sensor's gap offset: shown about its own mean.
+  double mean = 0;
+  for (double v : raw) mean += v / static_cast<double>(raw.size());
+  for (double& v : raw) v -= mean;
+  d.series.emplace_back(t, raw, "raw (sensor x sensor_to_tip, mean removed)",
+                        render::SeriesStyle::kLine, "#999999");
+  d.series.emplace_back(t, done, "processed (contour removed)", render::SeriesStyle::kLine,
+                        "#0072B2");
+  return fig;
+}
+
+render::Figure cut_offset_figure(const sync::OffsetAngleResult& o) {
+  render::Figure fig;
+  fig.height_in = 4.8;
+  render::Axes& e = fig.panels.emplace_back();
+  e.x_label = "offset angle [deg]";
+  e.y_label = "RMS difference [um]";
+  std::vector<double> a, err;
+  for (Eigen::Index i = 0; i < o.search.candidate_deg.size(); ++i) {
+    a.push_back(o.search.candidate_deg[i]);
+    err.push_back(o.search.error_m[i] * 1e6);
+  }
+  e.series.emplace_back(a, err, "simulated vs measured revolution");
+  e.x_range = render::Range{0, 360};
+  e.legend = render::LegendPosition::kNone;
+  render::Axes& r = fig.panels.emplace_back();
+  r.x_label = "tool angle theta_1 [deg]";
+  r.y_label = "tip deflection [um]";
+  std::vector<double> th, mx, my, sx, sy;
+  for (Eigen::Index i = 0; i < o.theta1_deg.size(); ++i) {
+    th.push_back(o.theta1_deg[i]);
+    mx.push_back(o.measured_x_m[i] * 1e6);
+    my.push_back(o.measured_y_m[i] * 1e6);
+    sx.push_back(o.simulated_x_m[i] * 1e6);
+    sy.push_back(o.simulated_y_m[i] * 1e6);
+  }
+  r.series.emplace_back(th, mx, "x measured", render::SeriesStyle::kLine, "#0072B2");
+  r.series.emplace_back(th, sx, "x simulated", render::SeriesStyle::kDashedLine, "#0072B2");
+  r.series.emplace_back(th, my, "y measured", render::SeriesStyle::kLine, "#D55E00");
+  r.series.emplace_back(th, sy, "y simulated", render::SeriesStyle::kDashedLine, "#D55E00");
+  r.x_range = render::Range{0, 360};
+  r.legend = render::LegendPosition::kOutsideRight;
+  return fig;
+}
+
 FigureSet render_report_figures(const CampaignResults& r, const std::filesystem::path& out,
                                 int jobs) {
   FigureSet set;
@@ -171,6 +245,26 @@ FigureSet render_report_figures(const CampaignResults& r, const std::filesystem:
   if (r.dyno_group && r.dyno_group->summary.ok) {
     work.push_back({"", "figures/dyno-force-vs-feed", dyno_force_figure(r)});
   }
+  for (const auto& t : r.tests) {
+    if (!t.status.ok || !t.cut) continue;
+    const auto& c = *t.cut;
+    const std::string stem = "figures/cut-" + file_stem(t.spec->id) + "-";
+    work.push_back({t.spec->id + kKindSeparator + "processing", stem + "processing",
+                    cut_processing_figure(c)});
+    if (c.offset_status.ok) {
+      work.push_back(
+          {t.spec->id + kKindSeparator + "offset", stem + "offset", cut_offset_figure(c.offset)});
+    }
+    if (c.ramped && c.bifurcation_status.ok) {
+      work.push_back({t.spec->id + kKindSeparator + "bifurcation", stem + "bifurcation",
+                      bifurcation_figure(c.depth_n_m, {{"x", c.x_n_m}},
+                                         c.bifurcation.bifurcation_depth_m, false)});
+      if (!c.poincare.empty()) {
+        work.push_back({t.spec->id + kKindSeparator + "poincare", stem + "poincare",
+                        poincare_figure(c.poincare)});
+      }
+    }
+  }
   std::vector<std::string> errors(work.size());
   parallel_for(work.size(), jobs, [&](std::size_t i) {
     try {
@@ -184,7 +278,10 @@ FigureSet render_report_figures(const CampaignResults& r, const std::filesystem:
       set.errors.push_back(errors[i]);
       continue;
     }
-    if (work[i].id.empty() && work[i].rel.find("dyno") != std::string::npos) {
+    const auto hash = work[i].id.find(kKindSeparator);
+    if (hash != std::string::npos) {
+      set.cut[work[i].id.substr(0, hash)][work[i].id.substr(hash + 1)] = work[i].rel;
+    } else if (work[i].id.empty() && work[i].rel.find("dyno") != std::string::npos) {
       set.dyno = work[i].rel;
     } else {
       set.tap[work[i].id] = work[i].rel;

@@ -15,7 +15,9 @@ struct FigureSet {
   std::map<std::string, std::string> tap;  // test id -> stem relative to the report folder
                                            // (stem.svg on screen, stem.png in print)
   std::string dyno;                        // stem, empty when not drawn
-  std::vector<std::string> errors;         // figures that could not be drawn
+  // Cut tests: id -> figure kind (processing, offset, bifurcation, poincare) -> stem.
+  std::map<std::string, std::map<std::string, std::string>> cut;
+  std::vector<std::string> errors;  // figures that could not be drawn
   std::string of(const std::string& id) const {
     const auto it = tap.find(id);
     return it == tap.end() ? std::string() : it->second;
@@ -25,6 +27,8 @@ struct FigureSet {
 // Figure models (exposed for tests).
 render::Figure tap_frf_figure(const TestOutcome& t);
 render::Figure dyno_force_figure(const CampaignResults& r);
+render::Figure cut_processing_figure(const CutOutcome& c);
+render::Figure cut_offset_figure(const sync::OffsetAngleResult& o);
 
 FigureSet render_report_figures(const CampaignResults& r, const std::filesystem::path& out,
                                 int jobs);

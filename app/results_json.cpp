@@ -64,6 +64,49 @@ json dyno_json(const DynoRecordOutcome& d) {
           {"switching_contrast", number_or_null(r.switching_contrast)}};
 }
 
+// A cut test (EXPERIMENT_FORMAT.md: offset_angle_deg; bifurcation_depth_mm null when the run
+// shows no bifurcation, absent when its depth does not vary). A step that did not succeed
+// leaves its keys out and says why.
+json cut_json(const CutOutcome& c) {
+  json j;
+  j["measured_rpm"] = number_or_null(c.tach.measured_rpm);
+  j["tach_revolutions"] = c.tach.revolutions;
+  j["air_revolutions"] = c.air_revolutions;
+  if (c.offset_status.ok) {
+    const auto& s = c.offset.search;
+    j["offset_angle_deg"] = s.offset_angle_deg;
+    j["offset_rms_error_m"] = s.rms_error_m;
+    j["offset_relative_error"] = number_or_null(c.offset.relative_error);
+    j["offset_runner_up_deg"] = number_or_null(s.runner_up_deg);
+    j["offset_runner_up_ratio"] = number_or_null(s.runner_up_ratio);
+    j["offset_ambiguous"] = s.ambiguous;
+    j["offset_comparison_depth_m"] = c.offset.depth_m;
+  } else {
+    j["offset_status"] = "skipped";
+    j["offset_skip_reason"] = c.offset_status.message;
+  }
+  if (c.ramped) {
+    if (c.bifurcation_status.ok) {
+      const auto& b = c.bifurcation;
+      j["bifurcation_depth_mm"] =
+          b.bifurcation_depth_m ? json(*b.bifurcation_depth_m * 1e3) : json(nullptr);
+      j["bifurcation_verdict"] = dynamics::to_string(b.verdict);
+      j["bifurcation_noise_floor_m"] = b.noise_floor_m;
+      json islands = json::array();
+      for (const auto& is : b.islands) {
+        islands.push_back(
+            {{"onset_depth_mm", is.onset_depth_m * 1e3}, {"end_depth_mm", is.end_depth_m * 1e3}});
+      }
+      j["chatter_islands"] = islands;
+    } else {
+      j["bifurcation_status"] = "skipped";
+      j["bifurcation_skip_reason"] = c.bifurcation_status.message;
+    }
+  }
+  j["estimators"] = json::object();  // the EKF family joins in a later version
+  return j;
+}
+
 json line_json(const cutting::FittedLine& l) {
   return {{"slope_N_m2", number_or_null(l.slope_N_per_m2)},
           {"intercept_N_m", number_or_null(l.intercept_N_per_m)},
@@ -94,6 +137,7 @@ json results_json(const CampaignResults& r, const TruthComparison& truth) {
     e["runtime_s"] = t.runtime_s;
     if (t.status.ok && t.tap) e.update(tap_json(*t.tap));
     if (t.status.ok && t.dyno) e.update(dyno_json(*t.dyno));
+    if (t.status.ok && t.cut) e.update(cut_json(*t.cut));
     tests[t.spec->id.empty() ? "." : t.spec->id] = e;
   }
   j["tests"] = tests;

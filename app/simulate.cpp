@@ -10,6 +10,7 @@
 #include "analysis/dynamics/poincare.h"
 #include "analysis/milling/simulation.h"
 #include "app/document.h"
+#include "app/dynamics_figures.h"
 #include "app/format.h"
 #include "app/hashing.h"
 #include "app/parallel.h"
@@ -37,58 +38,6 @@ Eigen::Index finite_prefix(const milling::OncePerRevolution& s) {
   Eigen::Index n = 0;
   while (n < s.x_m.size() && std::isfinite(s.x_m[n]) && std::isfinite(s.y_m[n])) ++n;
   return n;
-}
-
-// x_n and y_n against depth (000 fig. 5.1), or against the revolution number when the depth
-// is constant.
-render::Figure bifurcation_figure(const milling::OncePerRevolution& s, Eigen::Index n,
-                                  const std::optional<double>& depth_m, bool constant_depth) {
-  render::Figure fig;
-  fig.share_x = true;
-  fig.height_in = 4.2;
-  std::vector<double> depth = to_std(s.depth_m.head(n), kMmPerM);
-  if (constant_depth) {
-    for (std::size_t i = 0; i < depth.size(); ++i) depth[i] = static_cast<double>(i + 1);
-  }
-  for (const auto& [axis, values] : {std::pair{"x", &s.x_m}, std::pair{"y", &s.y_m}}) {
-    render::Axes& a = fig.panels.emplace_back();
-    a.y_label = std::string(axis) + "_n [um]";
-    render::Series pts(depth, to_std(values->head(n), kUm), std::string(axis) + "_n",
-                       render::SeriesStyle::kPoints);
-    a.series.push_back(pts);
-    if (depth_m) {
-      double lo = 1e300, hi = -1e300;
-      for (double v : pts.y) {
-        lo = std::min(lo, v);
-        hi = std::max(hi, v);
-      }
-      a.series.emplace_back(std::vector<double>{*depth_m * kMmPerM, *depth_m * kMmPerM},
-                            std::vector<double>{lo, hi}, "bifurcation",
-                            render::SeriesStyle::kDashedLine, "#D55E00");
-    }
-  }
-  fig.panels.back().x_label = constant_depth ? "revolution" : "axial depth of cut [mm]";
-  return fig;
-}
-
-render::Figure poincare_figure(const std::vector<dynamics::PoincareMap>& maps) {
-  render::Figure fig;
-  fig.height_in = 2.6 * static_cast<double>(maps.size());
-  for (const auto& m : maps) {
-    render::Axes& a = fig.panels.emplace_back();
-    a.title = "depth " + fmt_sig(m.first_depth_m * kMmPerM, 3) + " to " +
-              fmt_sig(m.last_depth_m * kMmPerM, 3) + " mm";
-    a.x_label = "x_(n-1) [um]";
-    a.y_label = "x_n [um]";
-    std::vector<double> px, py;
-    for (Eigen::Index i = 0; i < m.points_m.rows(); ++i) {
-      px.push_back(m.points_m(i, 0) * kUm);
-      py.push_back(m.points_m(i, 1) * kUm);
-    }
-    a.series.emplace_back(px, py, "", render::SeriesStyle::kPoints, "#0072B2");
-    a.legend = render::LegendPosition::kNone;
-  }
-  return fig;
 }
 
 render::Figure revolution_figure(const milling::RevolutionRecord& r, int teeth, bool inertial) {
@@ -289,8 +238,11 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
   const std::optional<double> shown_bif =
       bif && bif->summary.ok ? bif->bifurcation_depth_m : std::nullopt;
   if (done > 0)
-    jobs.push_back({"figures/bifurcation", bifurcation_figure(sim.samples, done, shown_bif,
-                                                              grid.depth_per_step_m == 0.0)});
+    jobs.push_back(
+        {"figures/bifurcation",
+         bifurcation_figure(sim.samples.depth_m.head(done),
+                            {{"x", sim.samples.x_m.head(done)}, {"y", sim.samples.y_m.head(done)}},
+                            shown_bif, grid.depth_per_step_m == 0.0)});
   if (!maps.empty()) jobs.push_back({"figures/poincare", poincare_figure(maps)});
   if (!sim.records.empty() && sim.records[0].x_m.allFinite()) {
     jobs.push_back(

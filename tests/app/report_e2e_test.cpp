@@ -13,6 +13,7 @@
 #include "app/campaign.h"
 #include "app/report.h"
 #include "app/signals.h"
+#include "app/simulate.h"
 #include "app/synth.h"
 #include "app/validate.h"
 #include "tests/support/temp_campaign.h"
@@ -89,13 +90,38 @@ TEST(ReportEndToEnd, DemoCampaignRecoversTruth) {
 
   // Every input hashed; the truth comparison present.
   EXPECT_EQ(r["inputs_sha256"].size(), 1u + 1u + 2u * 10u);  // campaign, truth, 10 tests x 2
-  // Cut tests are read and validated; their analysis is not part of this version, and the
-  // report says so instead of showing numbers.
-  for (const char* id : {"cuts/constant-1mm", "cuts/incline"}) {
-    EXPECT_EQ(r["tests"][id]["status"], "skipped") << id;
-    EXPECT_NE(r["tests"][id]["skip_reason"].get<std::string>().find("not part of this version"),
-              std::string::npos);
-  }
+  // Cut tests: offset angle against truth.yaml, modulo the half turn that the equal-teeth
+  // model of 000 sec. 5.1 (hammer modes and dyno Ktc, Krc on both teeth) cannot tell apart.
+  // The true teeth differ 27-fold (000 table 5.2), so this model matches the measured
+  // revolution only roughly; 1.5 deg covers it (the 0.5 deg target applies after
+  // identification). Measured: 146.01 for 147.0, 211.50 for 212.5.
+  const auto off_by = [](double est, double truth) {
+    const double diff = std::fmod(std::abs(est - truth), 180.0);
+    return std::min(diff, 180.0 - diff);
+  };
+  const json& c1 = r["tests"]["cuts/constant-1mm"];
+  ASSERT_EQ(c1["status"], "ok") << c1.dump();
+  EXPECT_LT(off_by(c1["offset_angle_deg"], 147.0), 1.5);
+  EXPECT_FALSE(c1.contains("bifurcation_depth_mm"));  // constant depth: the key is absent
+  const json& ci = r["tests"]["cuts/incline"];
+  ASSERT_EQ(ci["status"], "ok") << ci.dump();
+  EXPECT_LT(off_by(ci["offset_angle_deg"], 212.5), 1.5);
+  EXPECT_EQ(ci["air_revolutions"], 48);
+  // Measured bifurcation depth against the same cut simulated directly with the truth values
+  // (no sensors, runout or tachometer in between), read by the same detector.
+  const auto spec =
+      d.write("incline.yaml",
+              "format: chatterlab-simulation/1\n"
+              "tool: {teeth: 2, radius_mm: 6.35}\n"
+              "modal: {m_kg: 0.03134, c_kg_s: 22.21, k_N_m: 9.84e5}\n"
+              "coefficients: {Kt_N_m2: [2.483e8, 6.641e9], Kr_N_m2: [2.196e8, 4.154e9]}\n"
+              "cut: {spindle_rpm: 15000, feed_per_tooth_mm: 0.0635, radial_immersion_mm: 0.382,\n"
+              "      axial_depth_mm: [0.0, 4.0], revolutions_per_mm: 500}\n");
+  SimulateOptions so;
+  so.report = false;
+  ASSERT_EQ(run_simulate(spec, d.path() / "sim", so, log), 0);
+  const double simulated = read_json(d.path() / "sim/results.json")["bifurcation_depth_mm"];
+  EXPECT_NEAR(ci["bifurcation_depth_mm"].get<double>(), simulated, 0.1);
   EXPECT_GT(r["truth_comparison"].size(), 10u);
   const std::string html = read_text(out / "index.html");
   EXPECT_NE(html.find("Cutting-force coefficients"), std::string::npos);
