@@ -192,6 +192,12 @@ TEST(ReportEndToEnd, BrokenTestsAreSkippedAndTheRestRuns) {
           "kind: dyno-slot\nspindle_rpm: 500\nfeed_per_tooth_mm: 0.1\naxial_depth_mm: 2\n"
           "sample_rate_hz: 10000\ndata: {file: rec.f32, channels: [Fx, Fy, zero]}\n");
   d.write("broken/truncated/rec.f32", std::string(4 * 3 * 100 + 8, '\0'));
+  // A cut whose tachometer never pulses (all samples 0 V): the test is skipped, no number shown.
+  d.write("broken/notach/test.yaml",
+          "kind: cut\noperation: up-milling\nspindle_rpm: 15000\nfeed_per_tooth_mm: 0.0635\n"
+          "radial_immersion_mm: 0.382\naxial_depth_mm: 1.0\ncut_window_s: [0.01, 0.02]\n"
+          "sample_rate_hz: 100000\ndata: {file: s.f32, channels: [x, y, tach]}\n");
+  d.write("broken/notach/s.f32", std::string(4 * 3 * 2500, '\0'));
 
   std::ostringstream log;
   ReportOptions opt;
@@ -199,7 +205,7 @@ TEST(ReportEndToEnd, BrokenTestsAreSkippedAndTheRestRuns) {
   ASSERT_EQ(run_report(d.path(), d.path() / "out", opt, log), 0) << log.str();
   const json r = read_json(d.path() / "out/results.json");
   const json& t = r["tests"];
-  ASSERT_EQ(t.size(), 14u);
+  ASSERT_EQ(t.size(), 15u);
   for (const char* id : {"2026-11-20/dyno/a", "2026-11-20/dyno/b", "2026-11-20/dyno/c"}) {
     EXPECT_EQ(t[id]["status"], "ok") << id << t[id].dump();
     // theta_dyn defined modulo 180 deg; -0.41 rad = -23.49 deg.
@@ -232,6 +238,9 @@ TEST(ReportEndToEnd, BrokenTestsAreSkippedAndTheRestRuns) {
   EXPECT_EQ(reason("broken/misspelt"),
             "broken/misspelt/test.yaml: key 'sample_rate_hz' is missing (found 'sample_rate': "
             "misspelt?)");
+  EXPECT_EQ(reason("broken/notach"),
+            "broken/notach/s.f32: tachometer: no tachometer edges: the tach channel is flat at 0 V");
+  EXPECT_FALSE(t["broken/notach"].contains("offset_angle_deg"));
   EXPECT_EQ(reason("broken/truncated"),
             "broken/truncated/rec.f32: size 1208 bytes is not a multiple of 3 channels x 4 bytes "
             "(truncated file or wrong data.channels)");
