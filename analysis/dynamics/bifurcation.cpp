@@ -105,8 +105,7 @@ BlockFloor quietest_blocks(const Eigen::VectorXd& e, int block, double quantile)
 // Chatter episodes [start, end) by the hysteresis rule (bifurcation.h, step 3).
 std::vector<std::pair<Eigen::Index, Eigen::Index>> chatter_episodes(const Eigen::VectorXd& s,
                                                                     double high, double low,
-                                                                    int min_chatter,
-                                                                    int min_stable,
+                                                                    int min_chatter, int min_stable,
                                                                     bool ends_unbounded) {
   const Eigen::Index n = s.size();
   std::vector<std::pair<Eigen::Index, Eigen::Index>> episodes;
@@ -270,10 +269,9 @@ BifurcationResult detect_bifurcation(const Eigen::Ref<const Eigen::VectorXd>& de
   result.exit_threshold_m = options.exit_factor * result.noise_floor_m;
 
   // States and transitions.
-  const auto episodes =
-      chatter_episodes(spread.spread, result.enter_threshold_m, result.exit_threshold_m,
-                       options.min_chatter_revolutions, options.min_stable_revolutions,
-                       options.ends_unbounded);
+  const auto episodes = chatter_episodes(spread.spread, result.enter_threshold_m,
+                                         result.exit_threshold_m, options.min_chatter_revolutions,
+                                         options.min_stable_revolutions, options.ends_unbounded);
   result.state.assign(static_cast<std::size_t>(n), RevolutionState::kStable);
   Eigen::Index chattering = 0;
   for (const auto& [start, end] : episodes) {

@@ -238,8 +238,9 @@ TEST(ReportEndToEnd, BrokenTestsAreSkippedAndTheRestRuns) {
   EXPECT_EQ(reason("broken/misspelt"),
             "broken/misspelt/test.yaml: key 'sample_rate_hz' is missing (found 'sample_rate': "
             "misspelt?)");
-  EXPECT_EQ(reason("broken/notach"),
-            "broken/notach/s.f32: tachometer: no tachometer edges: the tach channel is flat at 0 V");
+  EXPECT_EQ(
+      reason("broken/notach"),
+      "broken/notach/s.f32: tachometer: no tachometer edges: the tach channel is flat at 0 V");
   EXPECT_FALSE(t["broken/notach"].contains("offset_angle_deg"));
   EXPECT_EQ(reason("broken/truncated"),
             "broken/truncated/rec.f32: size 1208 bytes is not a multiple of 3 channels x 4 bytes "

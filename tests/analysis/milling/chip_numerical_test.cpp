@@ -9,6 +9,7 @@
 #include "analysis/milling/chip_traditional.h"
 #include "analysis/milling/engagement.h"
 #include "analysis/milling/simulation.h"
+#include "tests/support/record_property.h"
 
 namespace chatterlab {
 namespace milling {
@@ -16,12 +17,7 @@ namespace {
 
 constexpr double kPi = 3.141592653589793238463;
 
-// Measured value in the test's XML report (--gtest_output=xml), for docs/simulator.md.
-void record(const std::string& key, double value) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", value);
-  ::testing::Test::RecordProperty(key, buf);
-}
+using chatterlab::testing::record;
 
 // 000 sec. 5.2 conditions with the table 5.2 trial-1 parameters.
 SimulationOptions trial1() {

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "analysis/milling/simulation.h"
+#include "tests/support/record_property.h"
 
 namespace chatterlab {
 namespace milling {
@@ -18,12 +19,7 @@ constexpr double kOmega = 15000.0 * 2 * kPi / 60.0;  // 1570.796 rad/s
 // Hand values below are products of a few exact decimals: 1e-12 relative is rounding.
 constexpr double kHandRel = 1e-12;
 
-// Measured value in the test's XML report (--gtest_output=xml), for docs/simulator.md.
-void record(const std::string& key, double value) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", value);
-  ::testing::Test::RecordProperty(key, buf);
-}
+using chatterlab::testing::record;
 
 // 000 eqs 7.1-7.7 by hand. d = (3, 4) um: R = 5 um, phi = atan(4/3); v = (0.1, -0.05) m/s:
 // Rdot = (3e-6 * 0.1 - 4e-6 * 0.05) / 5e-6 = 0.02 m/s. m = 0.03 kg, w = 1570.796 rad/s:

@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <string>
 
+#include "tests/support/record_property.h"
+
 namespace {
 // Heap allocations counted while `g_counting` is set (NoHeapAllocationInTheStepLoop). malloc is
 // interposed (glibc's own is __libc_malloc): it sees operator new and Eigen's allocations alike.
@@ -32,12 +34,7 @@ namespace {
 
 constexpr double kPi = 3.141592653589793238463;
 
-// Measured value in the test's XML report (--gtest_output=xml), for docs/simulator.md.
-void record(const std::string& key, double value) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", value);
-  ::testing::Test::RecordProperty(key, buf);
-}
+using chatterlab::testing::record;
 
 // 000 sec. 5.2 conditions (the SimulationOptions defaults: 0 to 6 mm at 1,290 revolutions per
 // mm, 800 steps per tooth) with table 5.2 parameters of incline trial 1, 2 or 3.

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "analysis/milling/simulation.h"
+#include "tests/support/record_property.h"
 
 namespace chatterlab {
 namespace milling {
@@ -15,12 +16,7 @@ namespace {
 
 constexpr double kPi = 3.141592653589793238463;
 
-// Measured value in the test's XML report (--gtest_output=xml), for docs/simulator.md.
-void record(const std::string& key, double value) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", value);
-  ::testing::Test::RecordProperty(key, buf);
-}
+using chatterlab::testing::record;
 
 // Table 5.2 trial-1 modal parameters on x; a different, stiffer mode on y so a mix-up of axes
 // shows.
