@@ -1,0 +1,92 @@
+#include "analysis/estimate/ekf_options.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "analysis/common/summary.h"
+
+namespace chatterlab {
+namespace estimate {
+
+namespace {
+
+template <typename T>
+void require(bool rule_holds, const char* field, T value, const char* rule) {
+  if (rule_holds) return;
+  std::ostringstream m;
+  m << "ekf." << field << " = " << value << ": " << rule;
+  throw InputError(m.str());
+}
+
+void require_nonnegative(const char* field, double v) {
+  require(std::isfinite(v) && v >= 0.0, field, v, "must be finite and >= 0");
+}
+void require_positive(const char* field, double v) {
+  require(std::isfinite(v) && v > 0.0, field, v, "must be finite and > 0");
+}
+void require_discretization(Discretization d) {
+  require(d == Discretization::kForwardEuler || d == Discretization::kSymplecticEuler,
+          "discretization", static_cast<int>(d), "unknown discretization");
+}
+
+}  // namespace
+
+ModalEkfOptions modal_options_000() {
+  ModalEkfOptions o;
+  o.discretization = Discretization::kForwardEuler;
+  o.q_force_N2 = 1e14;  // eqs 6.1, 6.4
+  o.q_mass = o.q_damping = o.q_stiffness = 0.1;
+  o.r_m2 = 5.0;               // eqs 6.2, 6.5
+  o.p0_deflection_m2 = 1e12;  // eqs 6.3, 6.6
+  o.p0_velocity_m2_s2 = 1e12;
+  o.p0_mass_kg2 = 1e8;
+  o.p0_damping_kg2_s2 = 1e22;
+  o.p0_stiffness_N2_m2 = 5e13;
+  return o;
+}
+
+CoeffEkfOptions coeff_options_000() {
+  CoeffEkfOptions o;
+  o.discretization = Discretization::kForwardEuler;
+  o.q_force_N2 = 1e14;  // eq. 6.4
+  o.q_Kt = o.q_Kr = 0.1;
+  o.r_m2 = 5.0;               // eq. 6.5
+  o.p0_deflection_m2 = 1e12;  // eq. 6.7
+  o.p0_velocity_m2_s2 = 1e12;
+  o.p0_Kt = o.p0_Kr = 1e29;
+  o.gate = ToothGate::kNone;  // 000 sec. 4.4: two plain EKFs in parallel
+  return o;
+}
+
+void validate(const ModalEkfOptions& o) {
+  require_discretization(o.discretization);
+  require_nonnegative("q_force_N2", o.q_force_N2);
+  require_nonnegative("q_mass", o.q_mass);
+  require_nonnegative("q_damping", o.q_damping);
+  require_nonnegative("q_stiffness", o.q_stiffness);
+  require_positive("r_m2", o.r_m2);
+  require_positive("p0_deflection_m2", o.p0_deflection_m2);
+  require_positive("p0_velocity_m2_s2", o.p0_velocity_m2_s2);
+  require_positive("p0_mass_kg2", o.p0_mass_kg2);
+  require_positive("p0_damping_kg2_s2", o.p0_damping_kg2_s2);
+  require_positive("p0_stiffness_N2_m2", o.p0_stiffness_N2_m2);
+  require(o.history_points >= 2, "history_points", o.history_points, "must be >= 2");
+}
+
+void validate(const CoeffEkfOptions& o) {
+  require_discretization(o.discretization);
+  require_nonnegative("q_force_N2", o.q_force_N2);
+  require_nonnegative("q_Kt", o.q_Kt);
+  require_nonnegative("q_Kr", o.q_Kr);
+  require_positive("r_m2", o.r_m2);
+  require_positive("p0_deflection_m2", o.p0_deflection_m2);
+  require_positive("p0_velocity_m2_s2", o.p0_velocity_m2_s2);
+  require_positive("p0_Kt", o.p0_Kt);
+  require_positive("p0_Kr", o.p0_Kr);
+  require(o.gate == ToothGate::kEngaged || o.gate == ToothGate::kNone, "gate",
+          static_cast<int>(o.gate), "unknown gate");
+  require(o.history_points >= 2, "history_points", o.history_points, "must be >= 2");
+}
+
+}  // namespace estimate
+}  // namespace chatterlab

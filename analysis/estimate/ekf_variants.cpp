@@ -1,0 +1,419 @@
+#include "analysis/estimate/ekf_variants.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "analysis/estimate/ekf.h"
+
+namespace chatterlab {
+namespace estimate {
+
+namespace {
+
+template <typename T>
+void require(bool rule_holds, const std::string& field, T value, const std::string& rule) {
+  if (rule_holds) return;
+  std::ostringstream m;
+  m << field << " = " << value << ": " << rule;
+  throw InputError(m.str());
+}
+
+void require_coefficients(const std::vector<ToothCoefficients>& c, const std::string& name) {
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    const std::string f = name + "[" + std::to_string(i) + "]";
+    require(std::isfinite(c[i].Kt_N_m2), f + ".Kt_N_m2", c[i].Kt_N_m2, "must be finite");
+    require(std::isfinite(c[i].Kr_N_m2), f + ".Kr_N_m2", c[i].Kr_N_m2, "must be finite");
+  }
+}
+
+// Decimated history: the initial estimate, every stride-th step and the last step.
+class HistoryRecorder {
+ public:
+  HistoryRecorder(std::vector<std::string> columns, std::int64_t steps, int points) {
+    stride_ = std::max<std::int64_t>(1, (steps + points - 2) / (points - 1));
+    const std::int64_t rows = 1 + steps / stride_ + (steps % stride_ != 0 ? 1 : 0);
+    h_.columns = std::move(columns);
+    h_.time_s.resize(rows);
+    h_.values.resize(rows, static_cast<Eigen::Index>(h_.columns.size()));
+    last_ = steps;
+  }
+  // Step s (1-based: s filter steps done; 0 = the initial estimate).
+  bool due(std::int64_t s) const { return s % stride_ == 0 || s == last_; }
+  template <typename Row>
+  void record(double time_s, const Row& row) {
+    h_.time_s[row_] = time_s;
+    h_.values.row(row_) = row.transpose();
+    ++row_;
+  }
+  EstimateHistory take() {
+    h_.time_s.conservativeResize(row_);
+    h_.values.conservativeResize(row_, h_.values.cols());
+    return std::move(h_);
+  }
+
+ private:
+  EstimateHistory h_;
+  std::int64_t stride_ = 1;
+  std::int64_t last_ = 0;
+  Eigen::Index row_ = 0;
+};
+
+std::vector<std::string> deflection_columns(bool y_axis) {
+  if (y_axis) return {"x_m", "vx_m_s", "y_m", "vy_m_s"};
+  return {"x_m", "vx_m_s"};
+}
+
+template <class Model>
+std::vector<std::string> modal_columns() {
+  std::vector<std::string> c = deflection_columns(Model::kAxes == 2);
+  if (Model::kMass >= 0) c.push_back("m_kg");
+  if (Model::kDamping >= 0) c.push_back("c_kg_s");
+  if (Model::kStiffness >= 0) c.push_back("k_N_m");
+  return c;
+}
+
+template <class Model>
+typename Model::Measurement measurement(const MeasuredCut& cut, Eigen::Index k) {
+  typename Model::Measurement z;
+  z[0] = cut.x_m[k];
+  if constexpr (Model::kMeasurements == 2) z[1] = cut.y_m[k];
+  return z;
+}
+
+// Runs one filter over the cut; `input(chips)` gives the ForceInput of a sample.
+template <class Model, class InputFn>
+EkfResult run_single(EstimatorId id, const MeasuredCut& cut, const CutChips& chips,
+                     const Model& model, const typename Model::State& x0,
+                     const typename Model::StateMatrix& P0, const typename Model::Noise& q,
+                     double r_m2, std::vector<std::string> columns, int history_points,
+                     InputFn input) {
+  using Filter = ExtendedKalmanFilter<Model>;
+  EkfResult res;
+  res.id = id;
+  res.estimator = estimator_name(id);
+  res.time_step_s = cut.time_step_s;
+  res.filters = 1;
+  const Eigen::Index k0 = chips.first_step();
+  const std::int64_t steps = chips.samples() - 1 - k0;
+  const double T = cut.time_step_s;
+  HistoryRecorder history(columns, steps, history_points);
+  Filter filter(model, x0, P0, q, Model::Measurement::Constant(r_m2));
+  history.record(static_cast<double>(k0) * T, filter.state());
+
+  const auto start = std::chrono::steady_clock::now();
+  std::int64_t s = 0;
+  for (Eigen::Index k = k0; k + 1 < chips.samples(); ++k) {
+    filter.predict(input(chips.chips(k)));
+    filter.update(measurement<Model>(cut, k + 1));
+    ++s;
+    if (!filter.state().allFinite()) {
+      std::ostringstream m;
+      m << "the estimate became non-finite at step " << s << " (t = " << (k + 1) * T << " s)";
+      res.summary.fail(m.str());
+      break;
+    }
+    if (history.due(s)) history.record(static_cast<double>(k + 1) * T, filter.state());
+  }
+  res.runtime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  res.steps = s;
+  res.history = history.take();
+  res.final_state = filter.state();
+  res.covariance_diagonal = filter.covariance().diagonal();
+  for (int i = Model::kFirstParameter; i < Model::kStates; ++i) {
+    res.estimates.push_back(
+        {columns[static_cast<std::size_t>(i)], filter.state()[i], filter.covariance()(i, i)});
+  }
+  if (s == steps) res.summary.succeed();
+  return res;
+}
+
+void validate_modal_inputs(const CutSetup& setup, const ModalEkfInputs& in) {
+  require(in.coefficients.size() == static_cast<std::size_t>(setup.teeth),
+          "inputs.coefficients.size()", in.coefficients.size(),
+          "must equal setup.teeth = " + std::to_string(setup.teeth) + " (one Kt, Kr per tooth)");
+  require_coefficients(in.coefficients, "inputs.coefficients");
+  require(std::isfinite(in.start.m_kg) && in.start.m_kg > 0.0, "inputs.start.m_kg", in.start.m_kg,
+          "must be > 0");
+  require(std::isfinite(in.start.c_kg_s) && in.start.c_kg_s >= 0.0, "inputs.start.c_kg_s",
+          in.start.c_kg_s, "must be >= 0");
+  require(std::isfinite(in.start.k_N_m) && in.start.k_N_m > 0.0, "inputs.start.k_N_m",
+          in.start.k_N_m, "must be > 0");
+}
+
+template <class Model>
+EkfResult run_modal(EstimatorId id, const MeasuredCut& cut, const CutChips& chips,
+                    const ModalEkfInputs& in, const ModalEkfOptions& o) {
+  const Model model(cut.time_step_s, o.discretization, in.start);
+  typename Model::State x0 = Model::State::Zero();
+  typename Model::StateMatrix P0 = Model::StateMatrix::Zero();
+  typename Model::Noise q;
+  for (int a = 0; a < Model::kAxes; ++a) {
+    P0(2 * a, 2 * a) = o.p0_deflection_m2;
+    P0(2 * a + 1, 2 * a + 1) = o.p0_velocity_m2_s2;
+    q[a] = o.q_force_N2;
+  }
+  const int w0 = Model::kAxes - Model::kFirstParameter;  // noise index = state index + w0
+  if constexpr (Model::kMass >= 0) {
+    x0[Model::kMass] = in.start.m_kg;
+    P0(Model::kMass, Model::kMass) = o.p0_mass_kg2;
+    q[Model::kMass + w0] = o.q_mass;
+  }
+  if constexpr (Model::kDamping >= 0) {
+    x0[Model::kDamping] = in.start.c_kg_s;
+    P0(Model::kDamping, Model::kDamping) = o.p0_damping_kg2_s2;
+    q[Model::kDamping + w0] = o.q_damping;
+  }
+  if constexpr (Model::kStiffness >= 0) {
+    x0[Model::kStiffness] = in.start.k_N_m;
+    P0(Model::kStiffness, Model::kStiffness) = o.p0_stiffness_N2_m2;
+    q[Model::kStiffness + w0] = o.q_stiffness;
+  }
+  const std::vector<ToothCoefficients>& coefficients = in.coefficients;
+  return run_single(id, cut, chips, model, x0, P0, q, o.r_m2, modal_columns<Model>(),
+                    o.history_points, [&coefficients](const StepChips& c) {
+                      ForceInput u;
+                      u.known_N = cutting_force_N(c, coefficients);
+                      return u;
+                    });
+}
+
+void validate_coeff_inputs(EstimatorId id, const CutSetup& setup, const CoeffEkfInputs& in) {
+  const ModalParameters& m = in.modal;
+  require(std::isfinite(m.m_kg) && m.m_kg > 0.0, "inputs.modal.m_kg", m.m_kg, "must be > 0");
+  require(std::isfinite(m.c_kg_s) && m.c_kg_s >= 0.0, "inputs.modal.c_kg_s", m.c_kg_s,
+          "must be >= 0");
+  require(std::isfinite(m.k_N_m) && m.k_N_m > 0.0, "inputs.modal.k_N_m", m.k_N_m, "must be > 0");
+  if (id == EstimatorId::kCoeffXy) {
+    require(in.start.size() == 1, "inputs.start.size()", in.start.size(),
+            "must be 1 for ekf-coeff-xy (one Kt, Kr for every tooth)");
+  } else {
+    require(
+        in.start.size() == static_cast<std::size_t>(setup.teeth), "inputs.start.size()",
+        in.start.size(),
+        "must equal setup.teeth = " + std::to_string(setup.teeth) + " for ekf-coeff-xy-per-tooth");
+  }
+  require_coefficients(in.start, "inputs.start");
+}
+
+CoeffXyModel::StateMatrix coeff_p0(const CoeffEkfOptions& o) {
+  CoeffXyModel::StateMatrix P0 = CoeffXyModel::StateMatrix::Zero();
+  P0.diagonal() << o.p0_deflection_m2, o.p0_velocity_m2_s2, o.p0_deflection_m2, o.p0_velocity_m2_s2,
+      o.p0_Kt, o.p0_Kr;
+  return P0;
+}
+
+CoeffXyModel::Noise coeff_q(const CoeffEkfOptions& o) {
+  CoeffXyModel::Noise q;
+  q << o.q_force_N2, o.q_force_N2, o.q_Kt, o.q_Kr;
+  return q;
+}
+
+EkfResult run_coeff_shared(const MeasuredCut& cut, const CutChips& chips, const CoeffEkfInputs& in,
+                           const CoeffEkfOptions& o) {
+  const CoeffXyModel model(cut.time_step_s, o.discretization, in.modal);
+  CoeffXyModel::State x0 = CoeffXyModel::State::Zero();
+  x0[CoeffXyModel::kKt] = in.start[0].Kt_N_m2;
+  x0[CoeffXyModel::kKr] = in.start[0].Kr_N_m2;
+  std::vector<std::string> columns = deflection_columns(true);
+  columns.push_back("Kt_N_m2");
+  columns.push_back("Kr_N_m2");
+  return run_single(EstimatorId::kCoeffXy, cut, chips, model, x0, coeff_p0(o), coeff_q(o), o.r_m2,
+                    columns, o.history_points, [](const StepChips& c) {
+                      ForceInput u;
+                      for (int p = 0; p < c.teeth; ++p) {
+                        u.regressor_m2 += tooth_regressor_m2(c.tooth[static_cast<std::size_t>(p)]);
+                      }
+                      return u;
+                    });
+}
+
+EkfResult run_coeff_per_tooth(const MeasuredCut& cut, const CutChips& chips,
+                              const CoeffEkfInputs& in, const CoeffEkfOptions& o) {
+  using Filter = ExtendedKalmanFilter<CoeffXyModel>;
+  constexpr int kKt = CoeffXyModel::kKt;
+  EkfResult res;
+  res.id = EstimatorId::kCoeffXyPerTooth;
+  res.estimator = estimator_name(res.id);
+  res.time_step_s = cut.time_step_s;
+  const int n = static_cast<int>(in.start.size());
+  res.filters = n;
+  const CoeffXyModel model(cut.time_step_s, o.discretization, in.modal);
+  const CoeffXyModel::StateMatrix P0 = coeff_p0(o);
+  const CoeffXyModel::Noise q = coeff_q(o);
+  std::vector<Filter> filters;
+  filters.reserve(static_cast<std::size_t>(n));
+  for (const ToothCoefficients& s : in.start) {
+    CoeffXyModel::State x0 = CoeffXyModel::State::Zero();
+    x0[kKt] = s.Kt_N_m2;
+    x0[kKt + 1] = s.Kr_N_m2;
+    filters.emplace_back(model, x0, P0, q, CoeffXyModel::Measurement::Constant(o.r_m2));
+  }
+  std::vector<std::string> columns = deflection_columns(true);
+  for (int p = 1; p <= n; ++p) {
+    columns.push_back("Kt" + std::to_string(p) + "_N_m2");
+    columns.push_back("Kr" + std::to_string(p) + "_N_m2");
+  }
+  const Eigen::Index cols = static_cast<Eigen::Index>(columns.size());
+  const auto combined = [&filters, n, cols]() {
+    Eigen::VectorXd row(cols);
+    row.head<4>() = filters[0].state().head<4>();
+    for (int p = 0; p < n; ++p) {
+      row.segment<2>(4 + 2 * p) = filters[static_cast<std::size_t>(p)].state().segment<2>(kKt);
+    }
+    return row;
+  };
+  const Eigen::Index k0 = chips.first_step();
+  const std::int64_t steps = chips.samples() - 1 - k0;
+  const double T = cut.time_step_s;
+  HistoryRecorder history(columns, steps, o.history_points);
+  history.record(static_cast<double>(k0) * T, combined());
+  const bool gated = o.gate == ToothGate::kEngaged;
+
+  std::array<Eigen::Matrix2d, milling::kMaxTeeth> regressor;
+  std::array<Eigen::Vector2d, milling::kMaxTeeth> force;
+  const auto start = std::chrono::steady_clock::now();
+  std::int64_t s = 0;
+  bool finite = true;
+  for (Eigen::Index k = k0; k + 1 < chips.samples() && finite; ++k) {
+    const StepChips c = chips.chips(k);
+    Eigen::Vector2d total = Eigen::Vector2d::Zero();
+    for (int p = 0; p < n; ++p) {
+      const std::size_t i = static_cast<std::size_t>(p);
+      regressor[i] = tooth_regressor_m2(c.tooth[i]);
+      force[i].noalias() = regressor[i] * filters[i].state().segment<2>(kKt);
+      total += force[i];
+    }
+    for (int p = 0; p < n; ++p) {
+      const std::size_t i = static_cast<std::size_t>(p);
+      ForceInput u;
+      u.known_N = total - force[i];
+      u.regressor_m2 = regressor[i];
+      filters[i].predict(u);
+    }
+    const CoeffXyModel::Measurement z(cut.x_m[k + 1], cut.y_m[k + 1]);
+    for (int p = 0; p < n; ++p) {
+      const bool own_tooth_cut = (c.engaged >> p) & 1u;
+      filters[static_cast<std::size_t>(p)].update(z, !gated || own_tooth_cut);
+      finite = finite && filters[static_cast<std::size_t>(p)].state().allFinite();
+    }
+    ++s;
+    if (!finite) {
+      std::ostringstream m;
+      m << "the estimate became non-finite at step " << s << " (t = " << (k + 1) * T << " s)";
+      res.summary.fail(m.str());
+    } else if (history.due(s)) {
+      history.record(static_cast<double>(k + 1) * T, combined());
+    }
+  }
+  res.runtime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  res.steps = s;
+  res.history = history.take();
+  res.final_state = combined();
+  res.covariance_diagonal.resize(cols);
+  res.covariance_diagonal.head<4>() = filters[0].covariance().diagonal().head<4>();
+  for (int p = 0; p < n; ++p) {
+    const Filter& f = filters[static_cast<std::size_t>(p)];
+    res.covariance_diagonal.segment<2>(4 + 2 * p) = f.covariance().diagonal().segment<2>(kKt);
+    for (int j = 0; j < 2; ++j) {
+      res.estimates.push_back({columns[static_cast<std::size_t>(4 + 2 * p + j)], f.state()[kKt + j],
+                               f.covariance()(kKt + j, kKt + j)});
+    }
+  }
+  if (s == steps && finite) res.summary.succeed();
+  return res;
+}
+
+}  // namespace
+
+const char* estimator_name(EstimatorId id) {
+  switch (id) {
+    case EstimatorId::kModalX:
+      return "ekf-modal-x";
+    case EstimatorId::kModalXy:
+      return "ekf-modal-xy";
+    case EstimatorId::kModalXyMk:
+      return "ekf-modal-xy-mk";
+    case EstimatorId::kModalXyMc:
+      return "ekf-modal-xy-mc";
+    case EstimatorId::kCoeffXy:
+      return "ekf-coeff-xy";
+    case EstimatorId::kCoeffXyPerTooth:
+      return "ekf-coeff-xy-per-tooth";
+  }
+  return "unknown";
+}
+
+EstimatorId estimator_from_name(const std::string& name) {
+  for (EstimatorId id :
+       {EstimatorId::kModalX, EstimatorId::kModalXy, EstimatorId::kModalXyMk,
+        EstimatorId::kModalXyMc, EstimatorId::kCoeffXy, EstimatorId::kCoeffXyPerTooth}) {
+    if (name == estimator_name(id)) return id;
+  }
+  throw InputError("estimator = " + name +
+                   ": unknown (ekf-modal-x, ekf-modal-xy, ekf-modal-xy-mk, ekf-modal-xy-mc, "
+                   "ekf-coeff-xy, ekf-coeff-xy-per-tooth)");
+}
+
+int estimator_states(EstimatorId id) {
+  switch (id) {
+    case EstimatorId::kModalX:
+      return ModalXModel::kStates;
+    case EstimatorId::kModalXy:
+      return ModalXyModel::kStates;
+    case EstimatorId::kModalXyMk:
+      return ModalXyMkModel::kStates;
+    case EstimatorId::kModalXyMc:
+      return ModalXyMcModel::kStates;
+    case EstimatorId::kCoeffXy:
+    case EstimatorId::kCoeffXyPerTooth:
+      return CoeffXyModel::kStates;
+  }
+  return 0;
+}
+
+bool is_modal(EstimatorId id) {
+  return id == EstimatorId::kModalX || id == EstimatorId::kModalXy ||
+         id == EstimatorId::kModalXyMk || id == EstimatorId::kModalXyMc;
+}
+
+double EkfResult::value(const std::string& key) const {
+  for (const Estimate& e : estimates) {
+    if (e.key == key) return e.value;
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+EkfResult ekf_modal(EstimatorId id, const MeasuredCut& cut, const CutSetup& setup,
+                    const ModalEkfInputs& inputs, const ModalEkfOptions& options) {
+  require(is_modal(id), "estimator", estimator_name(id), "is not a modal-parameter filter");
+  validate(options);
+  const CutChips chips(cut, setup);
+  validate_modal_inputs(setup, inputs);
+  switch (id) {
+    case EstimatorId::kModalX:
+      return run_modal<ModalXModel>(id, cut, chips, inputs, options);
+    case EstimatorId::kModalXy:
+      return run_modal<ModalXyModel>(id, cut, chips, inputs, options);
+    case EstimatorId::kModalXyMk:
+      return run_modal<ModalXyMkModel>(id, cut, chips, inputs, options);
+    default:
+      return run_modal<ModalXyMcModel>(id, cut, chips, inputs, options);
+  }
+}
+
+EkfResult ekf_coeff(EstimatorId id, const MeasuredCut& cut, const CutSetup& setup,
+                    const CoeffEkfInputs& inputs, const CoeffEkfOptions& options) {
+  require(!is_modal(id), "estimator", estimator_name(id), "is not a cutting-coefficient filter");
+  validate(options);
+  const CutChips chips(cut, setup);
+  validate_coeff_inputs(id, setup, inputs);
+  if (id == EstimatorId::kCoeffXy) return run_coeff_shared(cut, chips, inputs, options);
+  return run_coeff_per_tooth(cut, chips, inputs, options);
+}
+
+}  // namespace estimate
+}  // namespace chatterlab
