@@ -67,6 +67,17 @@ TruthComparison compare_with_truth(const CampaignResults& r) {
         add(c, p + "k_N_m", key, get(m, "k_N_m"), best->k_N_m);
       }
     }
+    // Cut test: the offset angle, on the representative nearest the truth (modulo 360, or
+    // modulo the tooth pitch when the model's alike teeth cannot tell the half turns apart).
+    for (const auto& t : r.tests) {
+      if (t.spec->id != key || !t.cut || !t.cut->offset_status.ok) continue;
+      const double truth_deg = get(v, "offset_angle_deg");
+      const int teeth = r.campaign.tool ? r.campaign.tool->teeth : 1;
+      const double period = t.cut->offset.search.ambiguous ? 360.0 / teeth : 360.0;
+      const double est = t.cut->offset.search.offset_angle_deg;
+      add(c, "offset_angle_deg", key, truth_deg,
+          est + period * std::round((truth_deg - est) / period));
+    }
     // Dyno group ("dyno/" prefix of its tests).
     if (r.dyno_group && r.dyno_group->summary.ok && !r.dyno_group->test_ids.empty() &&
         r.dyno_group->test_ids.front().rfind(key, 0) == 0) {

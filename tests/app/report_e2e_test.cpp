@@ -123,6 +123,13 @@ TEST(ReportEndToEnd, DemoCampaignRecoversTruth) {
   const double simulated = read_json(d.path() / "sim/results.json")["bifurcation_depth_mm"];
   EXPECT_NEAR(ci["bifurcation_depth_mm"].get<double>(), simulated, 0.1);
   EXPECT_GT(r["truth_comparison"].size(), 10u);
+  int offset_rows = 0;
+  for (const auto& row : r["truth_comparison"]) {
+    if (row["quantity"] != "offset_angle_deg") continue;
+    ++offset_rows;
+    EXPECT_LT(std::abs(row["estimate"].get<double>() - row["truth"].get<double>()), 1.5);
+  }
+  EXPECT_EQ(offset_rows, 2);
   const std::string html = read_text(out / "index.html");
   EXPECT_NE(html.find("Cutting-force coefficients"), std::string::npos);
   EXPECT_NE(html.find("figures/tap-tap-x-frf.svg"), std::string::npos);
