@@ -4,6 +4,7 @@
 #include <sstream>
 #include <string>
 
+#include "analysis/common/require.h"
 #include "analysis/common/summary.h"
 
 namespace chatterlab {
@@ -13,10 +14,7 @@ namespace {
 
 template <typename T>
 void require(bool rule_holds, const char* field, T value, const char* rule) {
-  if (rule_holds) return;
-  std::ostringstream m;
-  m << "dyno." << field << " = " << value << ": " << rule;
-  throw InputError(m.str());
+  require_rule(rule_holds, std::string("dyno.") + field, value, rule);
 }
 
 }  // namespace

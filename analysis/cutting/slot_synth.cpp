@@ -4,6 +4,7 @@
 #include <random>
 #include <sstream>
 
+#include "analysis/common/require.h"
 #include "analysis/common/summary.h"
 
 namespace chatterlab {
@@ -16,10 +17,7 @@ constexpr double kTwoPi = 2.0 * kPi;
 
 template <typename T>
 void require(bool rule_holds, const char* field, T value, const char* rule) {
-  if (rule_holds) return;
-  std::ostringstream m;
-  m << "slot_record." << field << " = " << value << ": " << rule;
-  throw InputError(m.str());
+  require_rule(rule_holds, std::string("slot_record.") + field, value, rule);
 }
 
 void validate(const SlotRecordSpec& s) {

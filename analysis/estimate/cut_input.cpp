@@ -4,6 +4,7 @@
 #include <sstream>
 #include <string>
 
+#include "analysis/common/require.h"
 #include "analysis/common/summary.h"
 #include "analysis/milling/chip_traditional.h"
 #include "analysis/milling/engagement.h"
@@ -18,10 +19,7 @@ constexpr double kTwoPi = 6.283185307179586476925;
 
 template <typename T>
 void require(bool rule_holds, const std::string& field, T value, const std::string& rule) {
-  if (rule_holds) return;
-  std::ostringstream m;
-  m << field << " = " << value << ": " << rule;
-  throw InputError(m.str());
+  require_rule(rule_holds, field, value, rule);
 }
 
 void require_finite(const Eigen::VectorXd& v, const char* name) {

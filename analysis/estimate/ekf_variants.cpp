@@ -7,6 +7,7 @@
 #include <limits>
 #include <sstream>
 
+#include "analysis/common/require.h"
 #include "analysis/estimate/ekf.h"
 
 namespace chatterlab {
@@ -16,10 +17,7 @@ namespace {
 
 template <typename T>
 void require(bool rule_holds, const std::string& field, T value, const std::string& rule) {
-  if (rule_holds) return;
-  std::ostringstream m;
-  m << field << " = " << value << ": " << rule;
-  throw InputError(m.str());
+  require_rule(rule_holds, field, value, rule);
 }
 
 void require_coefficients(const std::vector<ToothCoefficients>& c, const std::string& name) {

@@ -5,6 +5,7 @@
 #include <sstream>
 #include <string>
 
+#include "analysis/common/require.h"
 #include "analysis/common/summary.h"
 
 namespace chatterlab {
@@ -14,10 +15,7 @@ namespace {
 
 template <typename T>
 void require(bool rule_holds, const std::string& field, T value, const std::string& rule) {
-  if (rule_holds) return;
-  std::ostringstream m;
-  m << field << " = " << value << ": " << rule;
-  throw InputError(m.str());
+  require_rule(rule_holds, field, value, rule);
 }
 
 template <class Model>

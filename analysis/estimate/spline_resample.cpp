@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "analysis/common/require.h"
 #include "analysis/common/summary.h"
 
 namespace chatterlab {
@@ -12,10 +13,7 @@ namespace {
 
 template <typename T>
 void require(bool rule_holds, const char* field, T value, const char* rule) {
-  if (rule_holds) return;
-  std::ostringstream m;
-  m << "resample." << field << " = " << value << ": " << rule;
-  throw InputError(m.str());
+  require_rule(rule_holds, std::string("resample.") + field, value, rule);
 }
 
 // Second derivatives M_0 .. M_n-1 at the knots (header), by the Thomas algorithm on the
