@@ -15,6 +15,7 @@
 
 #include "analysis/estimate/ekf_variants.h"
 #include "synthetic_cut.h"
+#include "tests/support/record_property.h"
 
 namespace chatterlab {
 namespace estimate {
@@ -27,10 +28,7 @@ using testing::table52_modal;
 constexpr double kTolerance = 0.02;  // the brief: within 2 %
 
 void record(const std::string& key, double value) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", value);
-  ::testing::Test::RecordProperty(key, buf);
-  std::printf("  %s = %s\n", key.c_str(), buf);
+  chatterlab::testing::record_and_print(key, value);
 }
 
 const MeasuredCut& cut() {

@@ -17,6 +17,7 @@
 #include "analysis/estimate/ekf_variants.h"
 #include "analysis/estimate/modal_sequence.h"
 #include "synthetic_cut.h"
+#include "tests/support/record_property.h"
 
 namespace chatterlab {
 namespace estimate {
@@ -31,10 +32,7 @@ constexpr double kMassStiffnessTolerance = 0.02;  // the brief: within 2 %
 constexpr double kDampingTolerance = 0.10;        // the brief: within 10 %
 
 void record(const std::string& key, double value) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", value);
-  ::testing::Test::RecordProperty(key, buf);
-  std::printf("  %s = %s\n", key.c_str(), buf);
+  chatterlab::testing::record_and_print(key, value);
 }
 
 const MeasuredCut& cut() {

@@ -8,6 +8,7 @@
 
 #include "analysis/estimate/repeatability.h"
 #include "synthetic_cut.h"
+#include "tests/support/record_property.h"
 
 namespace chatterlab {
 namespace estimate {
@@ -17,10 +18,7 @@ using testing::table52_coefficients;
 using testing::table52_modal;
 
 void record(const std::string& key, double value) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", value);
-  ::testing::Test::RecordProperty(key, buf);
-  std::printf("  %s = %s\n", key.c_str(), buf);
+  chatterlab::testing::record_and_print(key, value);
 }
 
 const MeasuredCut& cut() {
