@@ -131,6 +131,14 @@ void read_cut(const YAML::Node& root, YamlReader& r, TestSpec& t) {
   }
   s.air_window_s = r.optional_pair(root, "air_window_s");
   s.sensor_to_tip = r.optional_double(root, "sensor_to_tip").value_or(1.0);
+  if (!(s.sensor_to_tip > 0)) r.error("sensor_to_tip", "must be > 0");
+  s.estimation_window_s = r.optional_pair(root, "estimation_window_s");
+  if (s.estimation_window_s) {
+    const auto& [a, b] = *s.estimation_window_s;
+    if (!(b > a) || a < s.cut_window_s.first || b > s.cut_window_s.second) {
+      r.error("estimation_window_s", "must be [start, end] with end > start inside cut_window_s");
+    }
+  }
   t.cut = s;
 }
 
@@ -140,6 +148,61 @@ void read_dyno(const YAML::Node& root, YamlReader& r, TestSpec& t) {
   s.axial_depth_m = r.required_double(root, "axial_depth_mm") * kMm;
   if (s.axial_depth_m <= 0) r.error("axial_depth_mm", "must be > 0");
   t.dyno = s;
+}
+
+// campaign.yaml `estimation:` (docs/formats.md): every key optional.
+void read_estimation(const YAML::Node& e, YamlReader& r, EstimationOptions& o) {
+  if (!e.IsMap()) {
+    r.error("estimation", "must be a mapping (docs/formats.md)");
+    return;
+  }
+  r.check_keys(e,
+               {"window_s", "resample_step_s", "settle_revolutions", "max_passes", "repeat_runs",
+                "repeat_spread", "seed"},
+               "estimation");
+  const auto positive = [&](const char* key, double& into) {
+    if (const auto v = r.optional_double(e, key, "estimation")) {
+      if (*v > 0 && std::isfinite(*v)) {
+        into = *v;
+      } else {
+        r.error(std::string("estimation.") + key, "must be > 0");
+      }
+    }
+  };
+  const auto whole = [&](const char* key, double lowest) -> std::optional<double> {
+    const auto v = r.optional_double(e, key, "estimation");
+    if (v && !(*v >= lowest && *v == std::floor(*v) && *v < 1e9)) {
+      r.error(std::string("estimation.") + key,
+              "must be a whole number >= " + std::to_string(static_cast<int>(lowest)));
+      return std::nullopt;
+    }
+    return v;
+  };
+  positive("window_s", o.window_s);
+  positive("resample_step_s", o.resample_step_s);
+  if (const auto v = r.optional_double(e, "settle_revolutions", "estimation")) {
+    if (*v >= 0 && std::isfinite(*v)) {
+      o.settle_revolutions = *v;
+    } else {
+      r.error("estimation.settle_revolutions", "must be >= 0");
+    }
+  }
+  if (const auto v = whole("max_passes", 1)) o.max_passes = static_cast<int>(*v);
+  if (const auto v = r.optional_double(e, "repeat_runs", "estimation")) {
+    if (*v == 0 || (*v >= 2 && *v == std::floor(*v) && *v < 1e6)) {
+      o.repeat.runs = static_cast<int>(*v);
+    } else {
+      r.error("estimation.repeat_runs", "must be 0 (no repeatability runs) or a whole number >= 2");
+    }
+  }
+  if (const auto v = r.optional_double(e, "repeat_spread", "estimation")) {
+    if (*v > 0 && *v < 1) {
+      o.repeat.spread = *v;
+    } else {
+      r.error("estimation.repeat_spread", "must be in (0, 1)");
+    }
+  }
+  if (const auto v = whole("seed", 0)) o.repeat.seed = static_cast<std::uint64_t>(*v);
 }
 
 }  // namespace
@@ -208,7 +271,8 @@ TestSpec load_test(const fs::path& campaign_root, const fs::path& test_yaml) {
   } else if (t.kind == "cut") {
     read_cut(root, r, t);
     known.insert({"operation", "spindle_rpm", "feed_per_tooth_mm", "radial_immersion_mm",
-                  "axial_depth_mm", "cut_window_s", "air_window_s", "sensor_to_tip"});
+                  "axial_depth_mm", "cut_window_s", "air_window_s", "sensor_to_tip",
+                  "estimation_window_s"});
   } else if (t.kind == "dyno-slot") {
     read_dyno(root, r, t);
     known.insert({"spindle_rpm", "feed_per_tooth_mm", "axial_depth_mm"});
@@ -236,7 +300,8 @@ CampaignSpec load_campaign(const fs::path& root_in) {
   const YAML::Node root = load_yaml(yaml, "campaign.yaml", &c.errors);
   if (root) {
     YamlReader r("campaign.yaml");
-    r.check_keys(root, {"format", "name", "description", "tool", "workpiece", "machine"});
+    r.check_keys(root,
+                 {"format", "name", "description", "tool", "workpiece", "machine", "estimation"});
     const auto format = r.required_string(root, "format");
     if (!format.empty() && format != kCampaignFormat) {
       r.error("format", "'" + format + "': must be '" + kCampaignFormat + "'");
@@ -271,6 +336,12 @@ CampaignSpec load_campaign(const fs::path& root_in) {
     }
     c.errors.insert(c.errors.end(), r.errors().begin(), r.errors().end());
     c.warnings.insert(c.warnings.end(), r.warnings().begin(), r.warnings().end());
+    if (const YAML::Node e = root["estimation"]; e) {
+      YamlReader er("campaign.yaml");
+      read_estimation(e, er, c.estimation);
+      c.estimation_errors = er.errors();
+      c.warnings.insert(c.warnings.end(), er.warnings().begin(), er.warnings().end());
+    }
   }
   c.truth_file = c.root / "truth.yaml";
   c.has_truth = fs::exists(c.truth_file);

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "app/estimation_options.h"
+
 namespace chatterlab::app {
 
 namespace fs = std::filesystem;
@@ -48,6 +50,8 @@ struct CutSpec {
   std::pair<double, double> cut_window_s{0.0, 0.0};
   std::optional<std::pair<double, double>> air_window_s;
   double sensor_to_tip = 1.0;
+  // Optional: the part of the record the estimators run over (docs/identification.md).
+  std::optional<std::pair<double, double>> estimation_window_s;
 };
 
 struct DynoSlotSpec {
@@ -86,6 +90,10 @@ struct CampaignSpec {
   std::string machine;
   bool has_truth = false;
   fs::path truth_file;
+  // campaign.yaml `estimation:` (docs/formats.md). Its errors do not stop the campaign: the cut
+  // tests' estimation step fails with them and everything else runs.
+  EstimationOptions estimation;
+  std::vector<std::string> estimation_errors;
 
   std::vector<TestSpec> tests;      // sorted by id
   std::vector<std::string> errors;  // campaign-level: the campaign cannot be run

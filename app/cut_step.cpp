@@ -34,22 +34,15 @@ void run_offset(const TestSpec& t, const CutStepInputs& in, const sync::TipDefle
         std::string(!in.hammer_x ? "no tap result" : "no dyno-slot coefficients"));
     return;
   }
-  milling::SimulationOptions o;
-  o.teeth = in.tool->teeth;
-  o.radius_m = in.tool->radius_m;
-  o.modal_x = {in.hammer_x->m_kg, in.hammer_x->c_kg_s, in.hammer_x->k_N_m};
   const frf::Mode& my = in.hammer_y ? *in.hammer_y : *in.hammer_x;
-  o.modal_y = milling::AxisModal{my.m_kg, my.c_kg_s, my.k_N_m};
   // The dyno coefficients for every tooth, without edge terms (000 sec. 5.1 uses Kt, Kr).
-  for (int p = 0; p < o.teeth; ++p) {
-    o.coefficients.push_back(milling::cutting_coefficients(in.coefficients->Ktc_N_per_m2,
-                                                           in.coefficients->Krc_N_per_m2));
-  }
-  o.operation = t.cut->operation == "down-milling" ? milling::Operation::kDownMilling
-                                                   : milling::Operation::kUpMilling;
-  o.spindle_rpm = t.cut->spindle_rpm;
-  o.feed_per_tooth_m = t.cut->feed_per_tooth_m;
-  o.radial_immersion_m = t.cut->radial_immersion_m;
+  const milling::SimulationOptions o = cut_model(
+      t, *in.tool, {in.hammer_x->m_kg, in.hammer_x->c_kg_s, in.hammer_x->k_N_m},
+      {my.m_kg, my.c_kg_s, my.k_N_m},
+      std::vector<milling::CuttingCoefficients>(
+          static_cast<std::size_t>(in.tool->teeth),
+          milling::cutting_coefficients(in.coefficients->Ktc_N_per_m2,
+                                        in.coefficients->Krc_N_per_m2)));
   sync::CutSchedule schedule{t.cut->cut_window_s.first, t.cut->cut_window_s.second,
                              t.cut->axial_depth_m.first, t.cut->axial_depth_m.second};
   // Constant depth: the last settled revolutions. Ramp: revolutions around 1 mm or the middle
@@ -65,9 +58,9 @@ void run_offset(const TestSpec& t, const CutStepInputs& in, const sync::TipDefle
                            std::to_string(w.start_s) + " to " + std::to_string(w.end_s) + " s");
     return;
   }
-  const sync::RevolutionMean measured = sync::mean_revolution(
-      tip.x_m, tip.y_m, out.tach, range, sync::contour_phase_points(out.tach, {}));
-  out.offset = sync::find_offset_angle(measured, o, w.depth_m);
+  out.offset_measured = sync::mean_revolution(tip.x_m, tip.y_m, out.tach, range,
+                                              sync::contour_phase_points(out.tach, {}));
+  out.offset = sync::find_offset_angle(out.offset_measured, o, w.depth_m);
   out.offset_status = out.offset.summary;
   if (out.offset.summary.ok && out.offset.search.ambiguous) {
     out.warnings.push_back("offset angle: the other half turn (" +
@@ -101,6 +94,7 @@ void run_measured_bifurcation(const TestSpec& t, const sync::TipDeflection& tip,
       std::min<Eigen::Index>(static_cast<Eigen::Index>(schedule.cut_end_s * fs), tip.x_m.size());
   dynamics::BifurcationOptions bo;
   bo.measurement_noise_m = dynamics::white_noise_sigma(tip.x_m.segment(i0, i1 - i0));
+  out.detector_noise_m = bo.measurement_noise_m;
   if (out.x_n_m.size() <= bo.window_revolutions) {
     out.bifurcation_status.fail("the cut window holds " + std::to_string(out.x_n_m.size()) +
                                 " revolutions: too few for the bifurcation detector (more than " +
@@ -119,7 +113,7 @@ void run_measured_bifurcation(const TestSpec& t, const sync::TipDeflection& tip,
 
 }  // namespace
 
-CutOutcome run_cut_test(const TestSpec& t, const CutStepInputs& in) {
+CutOutcome run_cut_test(const TestSpec& t, const CutStepInputs& in, const CutStepOptions& options) {
   CutOutcome out;
   const std::string label = (t.id.empty() ? "" : t.id + "/") + t.data.relative_file;
   const SignalTable table = SignalTable::open(t.data, label);
@@ -169,6 +163,18 @@ CutOutcome run_cut_test(const TestSpec& t, const CutStepInputs& in) {
   run_offset(t, in, tip, out);
   out.ramped = t.cut->axial_depth_m.first != t.cut->axial_depth_m.second;
   if (out.ramped) run_measured_bifurcation(t, tip, out);
+  if (!options.estimation_errors.empty()) {
+    std::string why;
+    for (const auto& e : options.estimation_errors) why += (why.empty() ? "" : "; ") + e;
+    out.estimation.summary.fail(why);
+  } else if (options.estimation.enabled) {
+    out.estimation = run_cut_estimation(
+        t, in, out.tach, tip, out.offset_measured, out.offset,
+        out.ramped && out.bifurcation_status.ok ? &out.bifurcation : nullptr,
+        out.ramped ? out.detector_noise_m : 0.0, options.estimation, options.jobs);
+    out.warnings.insert(out.warnings.end(), out.estimation.summary.warnings.begin(),
+                        out.estimation.summary.warnings.end());
+  }
   return out;
 }
 

@@ -1,7 +1,8 @@
 // The cut-test step (DESIGN.md data flow, 000 sec. 3.1 and 5.1): tachometer angle, runout
 // contour removed (air window), tip deflection, offset angle from a simulated revolution with
 // the campaign's hammer-test modal parameters and dynamometer coefficients, and for ramped
-// cuts the measured bifurcation depth. Estimators join in a later version.
+// cuts the measured bifurcation depth; then the identification sequence and the estimator
+// variants (cut_estimation.h).
 #pragma once
 
 #include <Eigen/Core>
@@ -18,6 +19,7 @@
 #include "analysis/sync/revolution_mean.h"
 #include "analysis/sync/tach_angle.h"
 #include "app/campaign.h"
+#include "app/cut_estimation.h"
 
 namespace chatterlab::app {
 
@@ -43,15 +45,26 @@ struct CutOutcome {
   Eigen::VectorXd excerpt_t_s, excerpt_raw_x_m, excerpt_x_m;
 
   StepSummary offset_status;  // "not run" until the offset angle step ran
-  sync::OffsetAngleResult offset;
+  sync::OffsetAngleResult offset;  // with the hammer-test and dynamometer values
+  sync::RevolutionMean offset_measured;  // the measured mean revolution it compared with
 
   StepSummary bifurcation_status;  // ramped cuts only
   bool ramped = false;
   Eigen::VectorXd depth_n_m, x_n_m;  // once-per-revolution samples at theta_1 = 0
   dynamics::BifurcationResult bifurcation;
   std::vector<dynamics::PoincareMap> poincare;
+  double detector_noise_m = 0.0;  // measurement noise the detector used
+
+  CutEstimation estimation;  // summary "not run" when the step did not run
 };
 
-CutOutcome run_cut_test(const TestSpec& t, const CutStepInputs& inputs);
+struct CutStepOptions {
+  EstimationOptions estimation;
+  std::vector<std::string> estimation_errors;  // campaign.yaml estimation: problems
+  int jobs = 1;                                // threads for the estimator variants
+};
+
+CutOutcome run_cut_test(const TestSpec& t, const CutStepInputs& inputs,
+                        const CutStepOptions& options = {});
 
 }  // namespace chatterlab::app

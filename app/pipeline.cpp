@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <optional>
+#include <thread>
 
 #include "app/hashing.h"
 #include "app/parallel.h"
@@ -69,10 +70,11 @@ CutStepInputs cut_inputs(const CampaignResults& r) {
   return in;
 }
 
-void run_cut(const TestSpec& t, const CutStepInputs& in, TestOutcome& out) {
+void run_cut(const TestSpec& t, const CutStepInputs& in, const CutStepOptions& o,
+             TestOutcome& out) {
   const auto t0 = std::chrono::steady_clock::now();
   try {
-    CutOutcome c = run_cut_test(t, in);
+    CutOutcome c = run_cut_test(t, in, o);
     out.warnings.insert(out.warnings.end(), c.warnings.begin(), c.warnings.end());
     if (c.summary.ok) {
       out.status.succeed();
@@ -108,11 +110,7 @@ void run_test(const TestSpec& t, const PipelineOptions& o, TestOutcome& out) {
       out.tap = std::move(tap);
     } else if (t.kind == "dyno-slot") {
       run_dyno_record(t, o, out);
-    } else if (t.kind == "cut") {
-      out.status.fail(
-          "cut-run analysis (tachometer, runout, offset angle, estimators) is not "
-          "part of this version; the test was read and validated only");
-    }
+    }  // cut tests run afterwards (run_campaign): they need the tap and dyno results
   } catch (const std::exception& e) {
     out.status.fail(e.what());
   }
@@ -159,6 +157,16 @@ DynoGroupOutcome run_dyno_group(const CampaignResults& r, const PipelineOptions&
 
 }  // namespace
 
+const TestOutcome* identification_source(const CampaignResults& r) {
+  const TestOutcome* ramped = nullptr;
+  for (const auto& t : r.tests) {
+    if (!t.status.ok || !t.cut || !t.cut->estimation.summary.ok) continue;
+    if (!t.cut->ramped) return &t;
+    if (!ramped) ramped = &t;
+  }
+  return ramped;
+}
+
 CampaignResults run_campaign(CampaignSpec campaign, const PipelineOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   CampaignResults r;
@@ -180,8 +188,16 @@ CampaignResults run_campaign(CampaignSpec campaign, const PipelineOptions& optio
   for (std::size_t i = 0; i < r.tests.size(); ++i) {
     if (r.campaign.tests[i].kind == "cut" && r.campaign.tests[i].usable()) cuts.push_back(i);
   }
+  CutStepOptions cut_options;
+  cut_options.estimation = r.campaign.estimation;
+  cut_options.estimation_errors = r.campaign.estimation_errors;
+  // The threads left over when there are fewer cut tests than threads run estimator variants.
+  const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = options.jobs > 0 ? options.jobs : hw;
+  cut_options.jobs =
+      std::max(1, threads / std::max(1, static_cast<int>(cuts.size())));
   parallel_for(cuts.size(), options.jobs, [&](std::size_t k) {
-    run_cut(r.campaign.tests[cuts[k]], r.cut_inputs, r.tests[cuts[k]]);
+    run_cut(r.campaign.tests[cuts[k]], r.cut_inputs, cut_options, r.tests[cuts[k]]);
   });
 
   // Provenance: every file read, hashed.

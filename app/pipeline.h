@@ -62,6 +62,11 @@ struct CampaignResults {
   double runtime_s = 0;
 };
 
+// The cut test whose identification gives the campaign's `identified` block
+// (docs/identification.md): the first constant-depth cut test (by id) whose identification
+// succeeded, else the first ramped one; null when none succeeded.
+const TestOutcome* identification_source(const CampaignResults& r);
+
 // Loads nothing: takes a loaded campaign. Never throws for bad test content.
 CampaignResults run_campaign(CampaignSpec campaign, const PipelineOptions& options);
 

@@ -64,6 +64,104 @@ json dyno_json(const DynoRecordOutcome& d) {
           {"switching_contrast", number_or_null(r.switching_contrast)}};
 }
 
+json modal_json(const estimate::ModalParameters& m) {
+  return {{"m_kg", number_or_null(m.m_kg)},
+          {"c_kg_s", number_or_null(m.c_kg_s)},
+          {"k_N_m", number_or_null(m.k_N_m)}};
+}
+
+void add_coefficients(json& j, const std::vector<estimate::ToothCoefficients>& k) {
+  for (std::size_t p = 0; p < k.size(); ++p) {
+    const std::string n = std::to_string(p + 1);
+    j["Kt" + n + "_N_m2"] = number_or_null(k[p].Kt_N_m2);
+    j["Kr" + n + "_N_m2"] = number_or_null(k[p].Kr_N_m2);
+  }
+}
+
+json identified_json(const CutEstimation& e) {
+  json j = modal_json(e.modal);
+  add_coefficients(j, e.coefficients);
+  return j;
+}
+
+json variant_json(const VariantOutcome& v) {
+  const estimate::EkfResult& r = v.run;
+  json j;
+  if (!r.summary.ok) {
+    j["status"] = "failed";
+    j["message"] = r.summary.message;
+    return j;
+  }
+  json est = json::object(), var = json::object();
+  for (const auto& e : r.estimates) {
+    est[e.key] = number_or_null(e.value);
+    var[e.key] = number_or_null(e.variance);
+  }
+  j["estimates"] = est;
+  j["final_variance"] = var;
+  j["runtime_s"] = r.runtime_s;
+  j["steps"] = r.steps;
+  j["filters"] = r.filters;
+  j["time_step_s"] = r.time_step_s;
+  j["steps_per_s"] = r.runtime_s > 0 ? json(static_cast<double>(r.steps * r.filters) / r.runtime_s)
+                                     : json(nullptr);
+  j["known"] = v.known;
+  j["start"] = v.start;
+  if (v.observability_status.ok) {
+    j["observability_rank"] = v.observability.rank;
+    j["observability_states"] = v.observability.states;
+  } else {
+    j["observability_message"] = v.observability_status.message;
+  }
+  const estimate::RepeatabilityResult& rep = v.repeat;
+  if (!rep.keys.empty()) {
+    json rj;
+    rj["runs"] = rep.initial.rows();
+    rj["status"] = rep.summary.ok ? "ok" : "failed";
+    if (!rep.summary.ok) rj["message"] = rep.summary.message;
+    json mean = json::object(), sd = json::object(), lo = json::object(), hi = json::object(),
+         rel = json::object();
+    for (std::size_t k = 0; k < rep.keys.size(); ++k) {
+      const auto i = static_cast<Eigen::Index>(k);
+      if (rep.mean.size() <= i) break;
+      mean[rep.keys[k]] = number_or_null(rep.mean[i]);
+      sd[rep.keys[k]] = number_or_null(rep.std_dev[i]);
+      lo[rep.keys[k]] = number_or_null(rep.min[i]);
+      hi[rep.keys[k]] = number_or_null(rep.max[i]);
+      rel[rep.keys[k]] = number_or_null(100.0 * rep.std_dev[i] / std::abs(rep.mean[i]));
+    }
+    rj["mean"] = mean;
+    rj["std_dev"] = sd;
+    rj["min"] = lo;
+    rj["max"] = hi;
+    rj["std_dev_pct"] = rel;
+    j["repeatability"] = rj;
+  }
+  return j;
+}
+
+json estimation_json(const CutEstimation& e) {
+  json j;
+  j["window_s"] = {e.window.start_s, e.window.end_s};
+  j["window_depth_m"] = {e.window.depth_start_m, e.window.depth_end_m};
+  j["window_rule"] = e.window.rule;
+  j["resampled_samples"] = e.resampled_samples;
+  json passes = json::array();
+  for (const auto& p : e.passes) {
+    json pj = modal_json(p.modal);
+    add_coefficients(pj, p.coefficients);
+    pj["offset_used_deg"] = p.offset_deg;
+    pj["offset_found_deg"] = p.offset_after_deg;
+    pj["offset_relative_error"] = number_or_null(p.offset_relative_error);
+    passes.push_back(pj);
+  }
+  j["passes"] = passes;
+  j["converged"] = e.converged;
+  j["identified"] = identified_json(e);
+  j["runtime_s"] = e.runtime_s;
+  return j;
+}
+
 // A cut test (EXPERIMENT_FORMAT.md: offset_angle_deg; bifurcation_depth_mm null when the run
 // shows no bifurcation, absent when its depth does not vary). A step that did not succeed
 // leaves its keys out and says why.
@@ -72,9 +170,15 @@ json cut_json(const CutOutcome& c) {
   j["measured_rpm"] = number_or_null(c.tach.measured_rpm);
   j["tach_revolutions"] = c.tach.revolutions;
   j["air_revolutions"] = c.air_revolutions;
+  const bool identified = c.estimation.summary.ok;
   if (c.offset_status.ok) {
     const auto& s = c.offset.search;
-    j["offset_angle_deg"] = s.offset_angle_deg;
+    // offset_angle_deg: found with the identified values when the identification ran, else
+    // with the hammer-test and dynamometer values (docs/identification.md).
+    j["offset_angle_deg"] =
+        identified ? c.estimation.offset.search.offset_angle_deg : s.offset_angle_deg;
+    j["offset_source"] = identified ? "identified" : "hammer-dyno";
+    j["offset_hammer_dyno_deg"] = s.offset_angle_deg;
     j["offset_rms_error_m"] = s.rms_error_m;
     j["offset_relative_error"] = number_or_null(c.offset.relative_error);
     j["offset_runner_up_deg"] = number_or_null(s.runner_up_deg);
@@ -103,7 +207,32 @@ json cut_json(const CutOutcome& c) {
       j["bifurcation_skip_reason"] = c.bifurcation_status.message;
     }
   }
-  j["estimators"] = json::object();  // the EKF family joins in a later version
+  json estimators = json::object();
+  if (identified) {
+    j["identification"] = estimation_json(c.estimation);
+    j["offset_identified_relative_error"] = number_or_null(c.estimation.offset.relative_error);
+    j["offset_identified_ambiguous"] = c.estimation.offset.search.ambiguous;
+    for (const auto& v : c.estimation.variants) estimators[v.run.estimator] = variant_json(v);
+    if (c.ramped) {
+      json sim = json::object();
+      for (const auto& s : c.estimation.simulated) {
+        if (s.status.ok) {
+          sim[s.chip_model] = {
+              {"bifurcation_depth_mm", s.depth_m ? json(*s.depth_m * 1e3) : json(nullptr)},
+              {"verdict", dynamics::to_string(s.verdict)},
+              {"steps", s.steps},
+              {"runtime_s", s.runtime_s}};
+        } else {
+          sim[s.chip_model] = {{"status", "failed"}, {"message", s.status.message}};
+        }
+      }
+      j["simulated_identified"] = sim;
+    }
+  } else if (c.estimation.summary.message != "not run") {
+    j["identification_status"] = "skipped";
+    j["identification_skip_reason"] = c.estimation.summary.message;
+  }
+  j["estimators"] = estimators;
   return j;
 }
 
@@ -167,9 +296,13 @@ json results_json(const CampaignResults& r, const TruthComparison& truth) {
     groups["dyno-slot"] = d;
   }
   j["groups"] = groups;
-  // Filled by the cut-test identification sequence (000 sec. 5.1, 5.3) when cut tests are
-  // analysed; empty in this version (docs/results.md).
-  j["identified"] = json::object();
+  // The identification of one cut test (docs/identification.md, "Campaign values").
+  if (const TestOutcome* src = identification_source(r)) {
+    j["identified"] = identified_json(src->cut->estimation);
+    j["identified_from"] = src->spec->id;
+  } else {
+    j["identified"] = json::object();
+  }
 
   if (truth.present) {
     json rows = json::array();

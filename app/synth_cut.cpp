@@ -252,10 +252,8 @@ int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint
                 << "}\n";
     ++written;
   }
-  if (truth_top.str().find("modal:") == std::string::npos) {
-    truth_top << "modal: {m_kg: " << num(s.modal.m_kg) << ", c_kg_s: " << num(s.modal.c_kg_s)
-              << ", k_N_m: " << num(s.modal.k_N_m) << "}\n";
-  }
+  truth_top << "modal: {m_kg: " << num(s.modal.m_kg) << ", c_kg_s: " << num(s.modal.c_kg_s)
+            << ", k_N_m: " << num(s.modal.k_N_m) << "}\n";
   truth_top << "coefficients: {";
   for (int p = 0; p < teeth; ++p) {
     truth_top << (p ? ", " : "") << "Kt" << p + 1

@@ -75,7 +75,8 @@ TapSynthSpec read_tap_synth(const YAML::Node& n, YamlReader& r) {
 }
 
 int write_tap_tests(const TapSynthSpec& s, std::uint64_t seed, const std::filesystem::path& out,
-                    std::ostringstream& truth_top, std::ostringstream& truth_tests) {
+                    std::ostringstream& truth_top, std::ostringstream& truth_tests,
+                    bool write_top_modal) {
   int written = 0;
   std::uint64_t axis_seed = seed;
   for (const auto& [axis, a] : s.axes) {
@@ -113,8 +114,10 @@ int write_tap_tests(const TapSynthSpec& s, std::uint64_t seed, const std::filesy
                   << ", k_N_m: " << num(m.k_N_m) << "}\n";
     }
   }
+  // Top-level `modal`: the first mode of x, unless the campaign has cut tests, whose modal
+  // parameters in the cut are the values the identification targets (synth_cut.cpp).
   const auto x = s.axes.find("x");
-  if (x != s.axes.end()) {
+  if (x != s.axes.end() && write_top_modal) {
     const auto& m = x->second.modes.front();
     truth_top << "modal: {m_kg: " << num(m.m_kg) << ", c_kg_s: " << num(m.c_kg_s)
               << ", k_N_m: " << num(m.k_N_m) << "}\n";

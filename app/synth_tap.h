@@ -34,9 +34,10 @@ struct TapSynthSpec {
 
 TapSynthSpec read_tap_synth(const YAML::Node& n, YamlReader& r);
 
-// Writes tap/<axis>/ tests; appends the modes to truth (top-level `modal` from the first mode
-// of x, and per-test modes). Returns the number of tests written.
+// Writes tap/<axis>/ tests; appends the modes to truth (per-test modes, and the top-level
+// `modal` from the first mode of x when write_top_modal). Returns the number of tests written.
 int write_tap_tests(const TapSynthSpec& s, std::uint64_t seed, const std::filesystem::path& out,
-                    std::ostringstream& truth_top, std::ostringstream& truth_tests);
+                    std::ostringstream& truth_top, std::ostringstream& truth_tests,
+                    bool write_top_modal);
 
 }  // namespace chatterlab::app

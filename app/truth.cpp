@@ -3,6 +3,8 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <iterator>
+#include <map>
 
 namespace chatterlab::app {
 namespace {
@@ -29,7 +31,75 @@ double wrap_to_pi_of(double est_deg, double truth_deg) {
   return est_deg + 180.0 * std::round((truth_deg - est_deg) / 180.0);
 }
 
+// Tooth shift s of an identified offset against the truth's: the offset differs by s whole
+// pitches (mod n), so identified tooth p is the truth's tooth p + s.
+int tooth_shift(double est_deg, double truth_deg, int teeth) {
+  const double pitch = 360.0 / teeth;
+  const long s = std::lround((est_deg - truth_deg) / pitch);
+  return static_cast<int>(((s % teeth) + teeth) % teeth);
+}
+
+// truth.yaml's in-cut values keyed as results.json, tooth numbers shifted by `shift`.
+std::map<std::string, double> truth_values(const YAML::Node& root, int teeth, int shift) {
+  std::map<std::string, double> v;
+  if (const YAML::Node m = root["modal"]) {
+    for (const char* k : {"m_kg", "c_kg_s", "k_N_m"}) v[k] = get(m, k);
+  }
+  if (const YAML::Node c = root["coefficients"]) {
+    for (int p = 1; p <= teeth; ++p) {
+      const int q = (p - 1 + shift) % teeth + 1;
+      v["Kt" + std::to_string(p) + "_N_m2"] = get(c, ("Kt" + std::to_string(q) + "_N_m2").c_str());
+      v["Kr" + std::to_string(p) + "_N_m2"] = get(c, ("Kr" + std::to_string(q) + "_N_m2").c_str());
+    }
+  }
+  for (auto it = v.begin(); it != v.end();) it = std::isfinite(it->second) ? std::next(it) : v.erase(it);
+  return v;
+}
+
+std::map<std::string, double> identified_values(const CutEstimation& e) {
+  std::map<std::string, double> v{
+      {"m_kg", e.modal.m_kg}, {"c_kg_s", e.modal.c_kg_s}, {"k_N_m", e.modal.k_N_m}};
+  for (std::size_t p = 0; p < e.coefficients.size(); ++p) {
+    v["Kt" + std::to_string(p + 1) + "_N_m2"] = e.coefficients[p].Kt_N_m2;
+    v["Kr" + std::to_string(p + 1) + "_N_m2"] = e.coefficients[p].Kr_N_m2;
+  }
+  return v;
+}
+
+// The truth's offset of test `id`, NaN when truth.yaml has none.
+double truth_offset(const YAML::Node& root, const std::string& id) {
+  const YAML::Node tests = root["tests"];
+  if (!tests || !tests.IsMap() || !tests[id]) return std::nan("");
+  return get(tests[id], "offset_angle_deg");
+}
+
+YAML::Node load_truth(const CampaignSpec& c) {
+  if (!c.has_truth) return {};
+  try {
+    return YAML::LoadFile(c.truth_file.string());
+  } catch (const YAML::Exception&) {
+    return {};
+  }
+}
+
 }  // namespace
+
+std::map<std::string, ReferenceValue> reference_values(const CampaignResults& r,
+                                                       const TestOutcome& t) {
+  std::map<std::string, ReferenceValue> out;
+  if (!t.cut || !t.cut->estimation.summary.ok) return out;
+  const CutEstimation& e = t.cut->estimation;
+  for (const auto& [k, v] : identified_values(e)) out[k] = {v, "identified"};
+  const YAML::Node root = load_truth(r.campaign);
+  const double off = root ? truth_offset(root, t.spec->id) : std::nan("");
+  if (root && std::isfinite(off)) {
+    const int teeth = static_cast<int>(e.coefficients.size());
+    const int shift = tooth_shift(e.offset.search.offset_angle_deg, off, teeth);
+    for (const auto& [k, v] : truth_values(root, teeth, shift)) out[k] = {v, "truth.yaml"};
+  }
+  for (const auto& [k, v] : t.spec->reference) out[k] = {v, "test.yaml reference"};
+  return out;
+}
 
 TruthComparison compare_with_truth(const CampaignResults& r) {
   TruthComparison c;
@@ -67,16 +137,30 @@ TruthComparison compare_with_truth(const CampaignResults& r) {
         add(c, p + "k_N_m", key, get(m, "k_N_m"), best->k_N_m);
       }
     }
-    // Cut test: the offset angle, on the representative nearest the truth (modulo 360, or
-    // modulo the tooth pitch when the model's alike teeth cannot tell the half turns apart).
+    // Cut test: the offset angles, on the representative nearest the truth modulo the tooth
+    // pitch (the hammer/dyno model's alike teeth cannot tell the pitches apart; the identified
+    // one can, but only up to the tooth labels, which the coefficients follow), and the
+    // identified values relabelled to the truth's teeth.
     for (const auto& t : r.tests) {
       if (t.spec->id != key || !t.cut || !t.cut->offset_status.ok) continue;
       const double truth_deg = get(v, "offset_angle_deg");
       const int teeth = r.campaign.tool ? r.campaign.tool->teeth : 1;
-      const double period = t.cut->offset.search.ambiguous ? 360.0 / teeth : 360.0;
-      const double est = t.cut->offset.search.offset_angle_deg;
-      add(c, "offset_angle_deg", key, truth_deg,
-          est + period * std::round((truth_deg - est) / period));
+      const double period = 360.0 / teeth;
+      const auto nearest = [&](double est) {
+        return est + period * std::round((truth_deg - est) / period);
+      };
+      add(c, "offset_hammer_dyno_deg", key, truth_deg,
+          nearest(t.cut->offset.search.offset_angle_deg));
+      const CutEstimation& e = t.cut->estimation;
+      if (!e.summary.ok) continue;
+      const double est = e.offset.search.offset_angle_deg;
+      add(c, "offset_angle_deg", key, truth_deg, nearest(est));
+      const int shift = tooth_shift(est, truth_deg, teeth);
+      const auto truth_in_cut = truth_values(root, teeth, shift);
+      for (const auto& [k, value] : identified_values(e)) {
+        const auto it = truth_in_cut.find(k);
+        if (it != truth_in_cut.end()) add(c, "identified." + k, key, it->second, value);
+      }
     }
     // Dyno group ("dyno/" prefix of its tests).
     if (r.dyno_group && r.dyno_group->summary.ok && !r.dyno_group->test_ids.empty() &&
