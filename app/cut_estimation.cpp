@@ -370,7 +370,8 @@ CutEstimation run_cut_estimation(const TestSpec& t, const CutStepInputs& in,
     if (!initial_offset.summary.ok || !in.hammer_x || !in.coefficients || !in.tool) {
       out.summary.fail(
           "the identification sequence (000 sec. 5.1) starts from the offset angle found with the "
-          "hammer-test and dynamometer values, which is not available");
+          "hammer-test and dynamometer values, which is not available: " +
+          initial_offset.summary.message);
       return out;
     }
     const ToolSpec& tool = *in.tool;

@@ -167,6 +167,11 @@ CutOutcome run_cut_test(const TestSpec& t, const CutStepInputs& in, const CutSte
     std::string why;
     for (const auto& e : options.estimation_errors) why += (why.empty() ? "" : "; ") + e;
     out.estimation.summary.fail(why);
+  } else if (!out.offset_status.ok) {
+    out.estimation.summary.fail(
+        "the identification sequence (000 sec. 5.1) starts from the offset angle found with the "
+        "hammer-test and dynamometer values, which is not available: " +
+        out.offset_status.message);
   } else if (options.estimation.enabled) {
     out.estimation = run_cut_estimation(
         t, in, out.tach, tip, out.offset_measured, out.offset,

@@ -129,7 +129,7 @@ CutSynthSpec read_cut_synth(const YAML::Node& n, YamlReader& r) {
     if (depth && depth->first == depth->second && !c.duration_s) {
       r.error(tp + ".duration_s", "is required for a constant depth");
     }
-    c.offset_angle_deg = r.required_double(t, "offset_angle_deg", tp);
+    c.offset_angle_deg = r.optional_double(t, "offset_angle_deg", tp);
     s.tests.push_back(c);
   }
   return s;
@@ -196,7 +196,14 @@ int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint
     std::uniform_real_distribution<double> phase(0.0, 2 * kPi);
     std::vector<double> harmonic_phase;
     for (std::size_t h = 0; h < s.out_of_round_m.size(); ++h) harmonic_phase.push_back(phase(rng));
-    const double offset_rad = c.offset_angle_deg * kPi / 180.0;
+    double offset_deg = 0.0;
+    if (c.offset_angle_deg) {
+      offset_deg = *c.offset_angle_deg;
+    } else {
+      std::mt19937_64 draw(test_seed ^ 0x9e3779b97f4a7c15ULL);
+      offset_deg = 360.0 * static_cast<double>(draw() >> 11) * 0x1.0p-53;
+    }
+    const double offset_rad = offset_deg * kPi / 180.0;
     const double runout_phase = s.runout_angle_deg * kPi / 180.0;
     const double samples_per_rad = P / (2 * kPi);
     const std::size_t last_trace = sim.trace.x_m.size() - 1;
@@ -248,7 +255,7 @@ int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint
       << "  tach: {threshold: 2.5}\n"
       << "sensor_to_tip: " << num(s.sensor_to_tip) << "\n";
     if (!y) throw InputError((dir / "test.yaml").string() + ": cannot write");
-    truth_tests << "  cuts/" << c.name << ": {offset_angle_deg: " << num(c.offset_angle_deg)
+    truth_tests << "  cuts/" << c.name << ": {offset_angle_deg: " << num(offset_deg)
                 << "}\n";
     ++written;
   }

@@ -24,7 +24,9 @@ struct CutTestSynth {
   double depth_start_m = 0, depth_end_m = 0;
   std::optional<double> revolutions_per_mm;  // ramp rate when the depth changes
   std::optional<double> duration_s;          // cutting time at constant depth
-  double offset_angle_deg = 0;
+  // theta_1 at the tachometer edge, deg; unset: drawn uniformly in [0, 360) from the spec's
+  // seed (written to truth.yaml), so that a test can use an offset it did not choose.
+  std::optional<double> offset_angle_deg;
 };
 
 struct CutSynthSpec {
