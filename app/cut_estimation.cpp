@@ -340,6 +340,19 @@ SimulatedBifurcation simulate_ramp(const TestSpec& t, const milling::SimulationO
 
 }  // namespace
 
+std::vector<std::pair<std::string, double>> scale_free_values(const CutEstimation& e) {
+  const estimate::ModalParameters& m = e.modal;
+  std::vector<std::pair<std::string, double>> v = {
+      {"fn_hz", std::sqrt(m.k_N_m / m.m_kg) / (2 * M_PI)},
+      {"zeta", m.c_kg_s / (2 * std::sqrt(m.k_N_m * m.m_kg))}};
+  for (std::size_t p = 0; p < e.coefficients.size(); ++p) {
+    const std::string n = std::to_string(p + 1);
+    v.emplace_back("Kt" + n + "_over_k_per_m", e.coefficients[p].Kt_N_m2 / m.k_N_m);
+    v.emplace_back("Kr" + n + "_over_k_per_m", e.coefficients[p].Kr_N_m2 / m.k_N_m);
+  }
+  return v;
+}
+
 milling::SimulationOptions cut_model(const TestSpec& t, const ToolSpec& tool,
                                      const milling::AxisModal& x, const milling::AxisModal& y,
                                      const std::vector<milling::CuttingCoefficients>& k) {

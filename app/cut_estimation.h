@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "analysis/common/summary.h"
@@ -91,6 +92,11 @@ struct CutEstimation {
   std::vector<SimulatedBifurcation> simulated;  // ramped cuts only
   double runtime_s = 0.0;
 };
+
+// The combinations of the identified values that tool-deflection data determine without an
+// outside scale (docs/identification.md, "Scale"): fn_hz = sqrt(k / m) / 2 pi,
+// zeta = c / (2 sqrt(k m)), and per tooth Kt<p>_over_k_per_m = Kt_p / k, Kr<p>_over_k_per_m.
+std::vector<std::pair<std::string, double>> scale_free_values(const CutEstimation& e);
 
 struct CutStepInputs;  // cut_step.h
 

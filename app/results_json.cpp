@@ -81,6 +81,9 @@ void add_coefficients(json& j, const std::vector<estimate::ToothCoefficients>& k
 json identified_json(const CutEstimation& e) {
   json j = modal_json(e.modal);
   add_coefficients(j, e.coefficients);
+  // The scale-free combinations that deflection data determine on their own
+  // (docs/identification.md, "Scale").
+  for (const auto& [k, v] : scale_free_values(e)) j[k] = number_or_null(v);
   return j;
 }
 

@@ -52,6 +52,18 @@ std::map<std::string, double> truth_values(const YAML::Node& root, int teeth, in
       v["Kr" + std::to_string(p) + "_N_m2"] = get(c, ("Kr" + std::to_string(q) + "_N_m2").c_str());
     }
   }
+  // The scale-free combinations (cut_estimation.h scale_free_values).
+  if (v.count("m_kg") && v.count("k_N_m")) {
+    const double m = v["m_kg"], k = v["k_N_m"];
+    v["fn_hz"] = std::sqrt(k / m) / (2 * M_PI);
+    if (v.count("c_kg_s")) v["zeta"] = v["c_kg_s"] / (2 * std::sqrt(k * m));
+    for (int p = 1; p <= teeth; ++p) {
+      for (const char* c : {"Kt", "Kr"}) {
+        const std::string key = c + std::to_string(p) + "_N_m2";
+        if (v.count(key)) v[c + std::to_string(p) + "_over_k_per_m"] = v[key] / k;
+      }
+    }
+  }
   for (auto it = v.begin(); it != v.end();) it = std::isfinite(it->second) ? std::next(it) : v.erase(it);
   return v;
 }
@@ -63,6 +75,7 @@ std::map<std::string, double> identified_values(const CutEstimation& e) {
     v["Kt" + std::to_string(p + 1) + "_N_m2"] = e.coefficients[p].Kt_N_m2;
     v["Kr" + std::to_string(p + 1) + "_N_m2"] = e.coefficients[p].Kr_N_m2;
   }
+  for (const auto& [k, value] : scale_free_values(e)) v[k] = value;
   return v;
 }
 
