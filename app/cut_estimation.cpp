@@ -8,6 +8,7 @@
 #include "analysis/estimate/cut_input.h"
 #include "analysis/milling/simulation.h"
 #include "app/cut_step.h"
+#include "app/format.h"
 #include "app/parallel.h"
 
 namespace chatterlab::app {
@@ -53,7 +54,7 @@ EstimationWindow choose_window(const TestSpec& t, const dynamics::BifurcationRes
     const double length = o.window_s + tau_s;
     if (s.depth_start_m == s.depth_end_m) {
       w.end_s = last;
-      w.rule = "the last " + std::to_string(o.window_s) + " s of the constant-depth cut";
+      w.rule = "the last " + fmt_sig(o.window_s, 4) + " s of the constant-depth cut";
     } else {
       const double lo = std::min(s.depth_start_m, s.depth_end_m);
       const double hi = std::max(s.depth_start_m, s.depth_end_m);
@@ -79,17 +80,17 @@ EstimationWindow choose_window(const TestSpec& t, const dynamics::BifurcationRes
     w.start_s = std::max(first, w.end_s - length);
     w.end_s = std::min(last, w.start_s + length);
     if (w.end_s - w.start_s < 0.999 * length) {
-      warnings.push_back("estimation: the cut holds " +
-                         std::to_string(std::max(0.0, w.end_s - w.start_s - tau_s)) +
-                         " s of settled cutting, less than estimation.window_s = " +
-                         std::to_string(o.window_s) + " s");
+      warnings.push_back(
+          "estimation: the cut holds " + fmt_sig(std::max(0.0, w.end_s - w.start_s - tau_s), 3) +
+          " s of settled cutting, less than estimation.window_s = " + fmt_sig(o.window_s, 4) +
+          " s");
     }
   }
   if (!(w.end_s - w.start_s > 4 * rev_s)) {
-    throw InputError(t.yaml_label + ": estimation window " + std::to_string(w.start_s) + " to " +
-                     std::to_string(w.end_s) +
+    throw InputError(t.yaml_label + ": estimation window " + fmt_sig(w.start_s, 6) + " to " +
+                     fmt_sig(w.end_s, 6) +
                      " s: the filters need at least four revolutions of settled cutting (after " +
-                     std::to_string(o.settle_revolutions) + " settling revolutions)");
+                     fmt_sig(o.settle_revolutions, 4) + " settling revolutions)");
   }
   w.depth_start_m = s.depth_at_m(w.start_s);
   w.depth_end_m = s.depth_at_m(w.end_s);
@@ -106,8 +107,8 @@ estimate::MeasuredCut measured_window(const TestSpec& t, const sync::TachAngle& 
   const auto i1 = std::min<Eigen::Index>(static_cast<Eigen::Index>(std::floor(w.end_s * fs)),
                                          tip.x_m.size() - 1);
   if (i1 - i0 < 8) {
-    throw InputError(t.yaml_label + ": estimation window " + std::to_string(w.start_s) + " to " +
-                     std::to_string(w.end_s) + " s lies outside the record");
+    throw InputError(t.yaml_label + ": estimation window " + fmt_sig(w.start_s, 6) + " to " +
+                     fmt_sig(w.end_s, 6) + " s lies outside the record");
   }
   const Eigen::Index n = i1 - i0 + 1;
   estimate::MeasuredCut raw;
@@ -140,7 +141,9 @@ std::vector<milling::CuttingCoefficients> simulator_coefficients(
   return out;
 }
 
-double relative_change(double a, double b) { return std::abs(a - b) / std::max(std::abs(b), 1e-300); }
+double relative_change(double a, double b) {
+  return std::abs(a - b) / std::max(std::abs(b), 1e-300);
+}
 
 bool settled(const IdentificationPass& now, const IdentificationPass& before,
              const EstimationOptions& o) {
@@ -148,30 +151,25 @@ bool settled(const IdentificationPass& now, const IdentificationPass& before,
                            relative_change(now.modal.c_kg_s, before.modal.c_kg_s),
                            relative_change(now.modal.k_N_m, before.modal.k_N_m)});
   for (std::size_t p = 0; p < now.coefficients.size(); ++p) {
-    worst = std::max({worst,
-                      relative_change(now.coefficients[p].Kt_N_m2, before.coefficients[p].Kt_N_m2),
-                      relative_change(now.coefficients[p].Kr_N_m2, before.coefficients[p].Kr_N_m2)});
+    worst = std::max(
+        {worst, relative_change(now.coefficients[p].Kt_N_m2, before.coefficients[p].Kt_N_m2),
+         relative_change(now.coefficients[p].Kr_N_m2, before.coefficients[p].Kr_N_m2)});
   }
   double moved = std::abs(now.offset_after_deg - before.offset_after_deg);
   moved = std::min(moved, 360.0 - moved);
   return moved < o.offset_tolerance_deg && worst < o.parameter_tolerance;
 }
 
-std::string fmt(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.4g", v);
-  return b;
-}
-
 std::string modal_text(const estimate::ModalParameters& m) {
-  return "m " + fmt(m.m_kg) + " kg, c " + fmt(m.c_kg_s) + " kg/s, k " + fmt(m.k_N_m) + " N/m";
+  return "m " + fmt_sig(m.m_kg, 4) + " kg, c " + fmt_sig(m.c_kg_s, 4) + " kg/s, k " +
+         fmt_sig(m.k_N_m, 4) + " N/m";
 }
 
 std::string coefficients_text(const std::vector<estimate::ToothCoefficients>& k) {
   std::string s;
   for (std::size_t p = 0; p < k.size(); ++p) {
-    s += (p ? ", " : "") + std::string("Kt") + std::to_string(p + 1) + " " + fmt(k[p].Kt_N_m2) +
-         ", Kr" + std::to_string(p + 1) + " " + fmt(k[p].Kr_N_m2);
+    s += (p ? ", " : "") + std::string("Kt") + std::to_string(p + 1) + " " +
+         fmt_sig(k[p].Kt_N_m2, 4) + ", Kr" + std::to_string(p + 1) + " " + fmt_sig(k[p].Kr_N_m2, 4);
   }
   return s + " N/m^2";
 }
@@ -221,8 +219,7 @@ void rank_variant(VariantOutcome& v, const OperatingSample& op,
       case EstimatorId::kModalX:
         u.known_N = estimate::cutting_force_N(op.chips, k);
         state.resize(5);
-        state << op.deflection[0], op.deflection[1], value("m_kg"), value("c_kg_s"),
-            value("k_N_m");
+        state << op.deflection[0], op.deflection[1], value("m_kg"), value("c_kg_s"), value("k_N_m");
         break;
       case EstimatorId::kModalXy:
         u.known_N = estimate::cutting_force_N(op.chips, k);
@@ -308,8 +305,9 @@ SimulatedBifurcation simulate_ramp(const TestSpec& t, const milling::SimulationO
     milling::SimulationOptions o = base;
     o.chip_model = model;
     const double revolutions = (c.cut_end_s - c.cut_start_s) * t.cut->spindle_rpm / 60.0;
-    o.depth = milling::DepthProfile::ramp(c.depth_start_m, c.depth_end_m,
-                                          revolutions / (std::abs(c.depth_end_m - c.depth_start_m) * 1e3));
+    o.depth = milling::DepthProfile::ramp(
+        c.depth_start_m, c.depth_end_m,
+        revolutions / (std::abs(c.depth_end_m - c.depth_start_m) * 1e3));
     const milling::SimulationResult sim = milling::simulate(o);
     s.steps = sim.steps;
     s.runtime_s = sim.runtime_s;
@@ -319,8 +317,8 @@ SimulatedBifurcation simulate_ramp(const TestSpec& t, const milling::SimulationO
     bo.measurement_noise_m = noise_m;
     bo.ends_unbounded = !sim.summary.ok;
     if (done <= bo.window_revolutions) {
-      s.status.fail("the simulated run stopped after " + std::to_string(done) + " revolutions: " +
-                    sim.summary.message);
+      s.status.fail("the simulated run stopped after " + std::to_string(done) +
+                    " revolutions: " + sim.summary.message);
       return s;
     }
     const dynamics::BifurcationResult b = dynamics::detect_bifurcation(
@@ -393,13 +391,12 @@ CutEstimation run_cut_estimation(const TestSpec& t, const CutStepInputs& in,
                                            in.hammer_x->k_N_m};
     const estimate::ToothCoefficients dyno{in.coefficients->Ktc_N_per_m2,
                                            in.coefficients->Krc_N_per_m2};
-    const std::vector<estimate::ToothCoefficients> dyno_teeth(
-        static_cast<std::size_t>(tool.teeth), dyno);
+    const std::vector<estimate::ToothCoefficients> dyno_teeth(static_cast<std::size_t>(tool.teeth),
+                                                              dyno);
 
     std::vector<std::string> warnings;
     out.window = choose_window(t, measured_bifurcation, o, warnings);
-    const estimate::MeasuredCut base =
-        measured_window(t, tach, tip, out.window, o.resample_step_s);
+    const estimate::MeasuredCut base = measured_window(t, tach, tip, out.window, o.resample_step_s);
     out.resampled_samples = base.x_m.size();
     const double t_first = std::ceil(out.window.start_s * t.sample_rate_hz) / t.sample_rate_hz;
 
@@ -422,7 +419,8 @@ CutEstimation run_cut_estimation(const TestSpec& t, const CutStepInputs& in,
       }
       for (int q = 1; q <= tool.teeth; ++q) {
         const std::string n = std::to_string(q);
-        p.coefficients.push_back({coeff.value("Kt" + n + "_N_m2"), coeff.value("Kr" + n + "_N_m2")});
+        p.coefficients.push_back(
+            {coeff.value("Kt" + n + "_N_m2"), coeff.value("Kr" + n + "_N_m2")});
       }
       const estimate::ModalSequenceResult seq = estimate::modal_mk_then_mc(
           cut, setup, {p.coefficients, {hammer.m_kg, held_c, hammer.k_N_m}}, o.modal, one_pass);
@@ -489,7 +487,8 @@ CutEstimation run_cut_estimation(const TestSpec& t, const CutStepInputs& in,
           const std::vector<estimate::ToothCoefficients> start =
               shared ? std::vector<estimate::ToothCoefficients>{dyno} : dyno_teeth;
           v.known = "modal identified (" + modal_text(out.modal) + ")";
-          v.start = "dynamometer (" + coefficients_text({dyno}) + (shared ? "" : " every tooth") + ")";
+          v.start =
+              "dynamometer (" + coefficients_text({dyno}) + (shared ? "" : " every tooth") + ")";
           v.run = estimate::ekf_coeff(id, cut, setup, {out.modal, start}, o.coeff);
           if (v.run.summary.ok && o.repeat.runs > 0) {
             // Reference: the identified per-tooth values; the one-pair filter has none, so its

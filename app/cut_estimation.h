@@ -28,10 +28,10 @@
 #include "analysis/common/summary.h"
 #include "analysis/dynamics/bifurcation.h"
 #include "analysis/estimate/ekf_variants.h"
-#include "analysis/milling/simulation_options.h"
 #include "analysis/estimate/modal_sequence.h"
 #include "analysis/estimate/observability.h"
 #include "analysis/estimate/repeatability.h"
+#include "analysis/milling/simulation_options.h"
 #include "analysis/sync/offset_angle.h"
 #include "analysis/sync/tach_angle.h"
 #include "analysis/sync/tip_deflection.h"
@@ -39,7 +39,6 @@
 #include "app/estimation_options.h"
 
 namespace chatterlab::app {
-
 
 // The estimation window (docs/identification.md, "Window").
 struct EstimationWindow {

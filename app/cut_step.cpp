@@ -6,6 +6,7 @@
 #include "analysis/dynamics/revolution_sampling.h"
 #include "analysis/milling/simulation_options.h"
 #include "analysis/sync/tip_deflection.h"
+#include "app/format.h"
 #include "app/signals.h"
 
 namespace chatterlab::app {
@@ -36,13 +37,13 @@ void run_offset(const TestSpec& t, const CutStepInputs& in, const sync::TipDefle
   }
   const frf::Mode& my = in.hammer_y ? *in.hammer_y : *in.hammer_x;
   // The dyno coefficients for every tooth, without edge terms (000 sec. 5.1 uses Kt, Kr).
-  const milling::SimulationOptions o = cut_model(
-      t, *in.tool, {in.hammer_x->m_kg, in.hammer_x->c_kg_s, in.hammer_x->k_N_m},
-      {my.m_kg, my.c_kg_s, my.k_N_m},
-      std::vector<milling::CuttingCoefficients>(
-          static_cast<std::size_t>(in.tool->teeth),
-          milling::cutting_coefficients(in.coefficients->Ktc_N_per_m2,
-                                        in.coefficients->Krc_N_per_m2)));
+  const milling::SimulationOptions o =
+      cut_model(t, *in.tool, {in.hammer_x->m_kg, in.hammer_x->c_kg_s, in.hammer_x->k_N_m},
+                {my.m_kg, my.c_kg_s, my.k_N_m},
+                std::vector<milling::CuttingCoefficients>(
+                    static_cast<std::size_t>(in.tool->teeth),
+                    milling::cutting_coefficients(in.coefficients->Ktc_N_per_m2,
+                                                  in.coefficients->Krc_N_per_m2)));
   sync::CutSchedule schedule{t.cut->cut_window_s.first, t.cut->cut_window_s.second,
                              t.cut->axial_depth_m.first, t.cut->axial_depth_m.second};
   // Constant depth: the last settled revolutions. Ramp: revolutions around 1 mm or the middle
@@ -55,7 +56,7 @@ void run_offset(const TestSpec& t, const CutStepInputs& in, const sync::TipDefle
   const sync::RevolutionRange range = sync::whole_revolutions_in(out.tach, w.start_s, w.end_s);
   if (range.count < 1) {
     out.offset_status.fail("no whole tachometer revolution inside the comparison window " +
-                           std::to_string(w.start_s) + " to " + std::to_string(w.end_s) + " s");
+                           fmt_sig(w.start_s, 6) + " to " + fmt_sig(w.end_s, 6) + " s");
     return;
   }
   out.offset_measured = sync::mean_revolution(tip.x_m, tip.y_m, out.tach, range,
@@ -63,10 +64,10 @@ void run_offset(const TestSpec& t, const CutStepInputs& in, const sync::TipDefle
   out.offset = sync::find_offset_angle(out.offset_measured, o, w.depth_m);
   out.offset_status = out.offset.summary;
   if (out.offset.summary.ok && out.offset.search.ambiguous) {
-    out.warnings.push_back("offset angle: the other half turn (" +
-                           std::to_string(out.offset.search.runner_up_deg) +
+    out.warnings.push_back("offset angle with the hammer/dyno values: the other half turn (" +
+                           fmt_fixed(out.offset.search.runner_up_deg, 2) +
                            " deg) fits almost as well (error ratio " +
-                           std::to_string(out.offset.search.runner_up_ratio) + ")");
+                           fmt_fixed(out.offset.search.runner_up_ratio, 3) + ")");
   }
 }
 

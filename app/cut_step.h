@@ -44,8 +44,8 @@ struct CutOutcome {
   // sensor_to_tip, contour in) and processed x.
   Eigen::VectorXd excerpt_t_s, excerpt_raw_x_m, excerpt_x_m;
 
-  StepSummary offset_status;  // "not run" until the offset angle step ran
-  sync::OffsetAngleResult offset;  // with the hammer-test and dynamometer values
+  StepSummary offset_status;             // "not run" until the offset angle step ran
+  sync::OffsetAngleResult offset;        // with the hammer-test and dynamometer values
   sync::RevolutionMean offset_measured;  // the measured mean revolution it compared with
 
   StepSummary bifurcation_status;  // ramped cuts only

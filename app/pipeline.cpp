@@ -194,8 +194,7 @@ CampaignResults run_campaign(CampaignSpec campaign, const PipelineOptions& optio
   // The threads left over when there are fewer cut tests than threads run estimator variants.
   const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   const int threads = options.jobs > 0 ? options.jobs : hw;
-  cut_options.jobs =
-      std::max(1, threads / std::max(1, static_cast<int>(cuts.size())));
+  cut_options.jobs = std::max(1, threads / std::max(1, static_cast<int>(cuts.size())));
   parallel_for(cuts.size(), options.jobs, [&](std::size_t k) {
     run_cut(r.campaign.tests[cuts[k]], r.cut_inputs, cut_options, r.tests[cuts[k]]);
   });

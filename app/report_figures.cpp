@@ -6,6 +6,7 @@
 #include <functional>
 
 #include "app/dynamics_figures.h"
+#include "app/format.h"
 #include "app/parallel.h"
 #include "render/gnuplot_backend.h"
 #include "render/render_error.h"
@@ -27,6 +28,42 @@ void push_phase(render::Series& s, double f, double deg) {
   }
   s.x.push_back(f);
   s.y.push_back(deg);
+}
+
+// "m_kg" -> "m [kg]", "Kt1_N_m2" -> "Kt1 [N/m^2]" (EXPERIMENT_FORMAT.md estimate keys).
+std::string key_label(const std::string& key) {
+  const auto u = key.find('_');
+  if (u == std::string::npos) return key;
+  std::string unit = key.substr(u + 1);
+  if (unit.size() > 1 && unit.back() == '2') unit.insert(unit.size() - 1, "^");
+  std::replace(unit.begin(), unit.end(), '_', '/');
+  return key.substr(0, u) + " [" + unit + "]";
+}
+
+// Column of `key` in a history; -1 when absent.
+Eigen::Index history_column(const estimate::EstimateHistory& h, const std::string& key) {
+  const auto it = std::find(h.columns.begin(), h.columns.end(), key);
+  return it == h.columns.end() ? -1 : static_cast<Eigen::Index>(it - h.columns.begin());
+}
+
+// 100 (value - reference) / |reference| of one history column against time.
+render::Series percent_series(const estimate::EstimateHistory& h, Eigen::Index col,
+                              double reference) {
+  render::Series s;
+  s.x.resize(static_cast<std::size_t>(h.time_s.size()));
+  s.y.resize(s.x.size());
+  for (Eigen::Index i = 0; i < h.time_s.size(); ++i) {
+    s.x[static_cast<std::size_t>(i)] = h.time_s[i];
+    s.y[static_cast<std::size_t>(i)] = 100.0 * (h.values(i, col) - reference) / std::abs(reference);
+  }
+  return s;
+}
+
+// The q-quantile (0..1) of v by nearest rank; v is reordered. v must not be empty.
+double quantile(std::vector<double>& v, double q) {
+  const auto k = static_cast<std::ptrdiff_t>(std::lround(q * static_cast<double>(v.size() - 1)));
+  std::nth_element(v.begin(), v.begin() + k, v.end());
+  return v[static_cast<std::size_t>(k)];
 }
 
 std::string file_stem(const std::string& id) {
@@ -227,6 +264,109 @@ render::Figure cut_offset_figure(const sync::OffsetAngleResult& o) {
   return fig;
 }
 
+// 000 figs 6.1-6.17 (one variant's estimates against time) and 6.19-6.20 (seeded starts).
+render::Figure estimator_error_figure(const VariantOutcome& v,
+                                      const std::map<std::string, ReferenceValue>& reference) {
+  const estimate::EkfResult& run = v.run;
+  // "hammer test (m ..., c ...)" -> "hammer test": where the run started.
+  const std::string start = v.start.substr(0, v.start.find(" ("));
+  int seeded = 0;
+  for (const auto& rr : v.repeat.runs) seeded += rr.summary.ok ? 1 : 0;
+  render::Figure fig;
+  fig.share_x = true;
+  double t_lo = 0.0, t_hi = 1.0;
+  if (run.history.time_s.size() > 1) {
+    t_lo = run.history.time_s[0];
+    t_hi = run.history.time_s[run.history.time_s.size() - 1];
+  }
+  for (const auto& est : run.estimates) {
+    const Eigen::Index col = history_column(run.history, est.key);
+    if (col < 0 || run.history.time_s.size() < 2) continue;
+    const auto ref = reference.find(est.key);
+    const bool has_ref =
+        ref != reference.end() && std::isfinite(ref->second.value) && ref->second.value != 0.0;
+    // Without a reference: the difference from the run's own final value.
+    const double r0 = has_ref ? ref->second.value : est.value;
+    if (!std::isfinite(r0) || r0 == 0.0) continue;
+    const bool first = fig.panels.empty();
+    render::Axes& a = fig.panels.emplace_back();
+    const std::string source = !has_ref                             ? std::string()
+                               : ref->second.source == "identified" ? "the identified values"
+                               : ref->second.source == "truth.yaml" ? "truth.yaml"
+                                                                    : "the test.yaml reference";
+    a.title = has_ref ? key_label(est.key) + " against " + source + " (" +
+                            fmt_sig(ref->second.value, 4) + "), final " + fmt_sig(est.value, 4)
+                      : key_label(est.key) + " against its own final value " +
+                            fmt_sig(est.value, 4) + " (no reference)";
+    a.y_label = has_ref ? "error [%]" : "difference [%]";
+    a.legend = first ? render::LegendPosition::kAbove : render::LegendPosition::kNone;
+    // Repeatability runs first (drawn behind), light; labelled once.
+    for (const auto& rr : v.repeat.runs) {
+      const Eigen::Index rc = history_column(rr.history, est.key);
+      if (!rr.summary.ok || rc < 0) continue;
+      render::Series s = percent_series(rr.history, rc, r0);
+      s.color = "#A9CCE3";
+      if (first && a.series.empty()) s.label = std::to_string(seeded) + " seeded starts";
+      a.series.push_back(std::move(s));
+    }
+    render::Series main = percent_series(run.history, col, r0);
+    main.color = "#0072B2";
+    if (first) main.label = "run from the " + start + " values";
+    // y range (the first instants can reach +-1000 %): symmetric about 0, half-width the larger
+    // of 5 % and 1.5 x the larger magnitude of the 2nd and 98th percentiles of every plotted
+    // value over the second half of the run, where the filters have settled; the start-up
+    // transient may leave it.
+    std::vector<double> late;
+    const double t_mid = 0.5 * (t_lo + t_hi);
+    const auto collect = [&](const render::Series& s) {
+      for (std::size_t i = 0; i < s.x.size(); ++i) {
+        if (s.x[i] >= t_mid && std::isfinite(s.y[i])) late.push_back(s.y[i]);
+      }
+    };
+    collect(main);
+    for (const auto& s : a.series) collect(s);
+    double half = 5.0;
+    if (!late.empty()) {
+      const double lo = quantile(late, 0.02), hi = quantile(late, 0.98);
+      half = std::max(half, 1.5 * std::max(std::abs(lo), std::abs(hi)));
+    }
+    a.y_range = render::Range{-half, half};
+    a.series.emplace_back(std::vector<double>{t_lo, t_hi}, std::vector<double>{0.0, 0.0},
+                          std::string(), render::SeriesStyle::kDashedLine, "#606060");
+    a.series.push_back(std::move(main));
+  }
+  if (fig.panels.empty()) {
+    render::Axes& a = fig.panels.emplace_back();
+    a.title = run.estimator + ": no estimate history";
+  }
+  fig.panels.back().x_label = "time from the window start [s]";
+  for (auto& a : fig.panels) a.x_range = render::Range{t_lo, t_hi};
+  fig.height_in = 1.0 + 1.55 * static_cast<double>(fig.panels.size());  // legend above
+  return fig;
+}
+
+// 000 fig. 6.18: time from the window start, as the estimator figures.
+render::Figure chip_thickness_figure(const CutEstimation& e) {
+  render::Figure fig;
+  fig.height_in = 2.8;
+  render::Axes& a = fig.panels.emplace_back();
+  a.x_label = "time from the window start [ms]";
+  a.y_label = "chip thickness [um]";
+  std::vector<double> t(static_cast<std::size_t>(e.chip_t_s.size()));
+  for (Eigen::Index i = 0; i < e.chip_t_s.size(); ++i) {
+    t[static_cast<std::size_t>(i)] = (e.chip_t_s[i] - e.window.start_s) * 1e3;
+  }
+  for (Eigen::Index p = 0; p < e.chip_m.cols(); ++p) {
+    std::vector<double> h(t.size());
+    for (Eigen::Index i = 0; i < e.chip_m.rows(); ++i) {
+      h[static_cast<std::size_t>(i)] = e.chip_m(i, p) * 1e6;
+    }
+    a.series.emplace_back(t, std::move(h), "tooth " + std::to_string(p + 1));
+  }
+  if (!t.empty()) a.x_range = render::Range{t.front(), t.back()};
+  return fig;
+}
+
 FigureSet render_report_figures(const CampaignResults& r, const std::filesystem::path& out,
                                 int jobs) {
   FigureSet set;
@@ -262,6 +402,19 @@ FigureSet render_report_figures(const CampaignResults& r, const std::filesystem:
       if (!c.poincare.empty()) {
         work.push_back({t.spec->id + kKindSeparator + "poincare", stem + "poincare",
                         poincare_figure(c.poincare)});
+      }
+    }
+    const CutEstimation& e = c.estimation;
+    if (e.summary.ok) {
+      const auto reference = reference_values(r, t);
+      for (const auto& v : e.variants) {
+        if (!v.run.summary.ok || v.run.history.time_s.size() < 2) continue;
+        work.push_back({t.spec->id + kKindSeparator + "estimator:" + v.run.estimator,
+                        stem + v.run.estimator, estimator_error_figure(v, reference)});
+      }
+      if (e.chip_t_s.size() > 1 && e.chip_m.rows() == e.chip_t_s.size()) {
+        work.push_back(
+            {t.spec->id + kKindSeparator + "chip", stem + "chip", chip_thickness_figure(e)});
       }
     }
   }

@@ -178,7 +178,8 @@ SynthSummary synthesize_campaign(const std::filesystem::path& spec_yaml,
   write_text(out_dir / "campaign.yaml", campaign.str());
 
   std::ostringstream truth_top, truth_tests;
-  if (tap) summary.tests_written += write_tap_tests(*tap, seed, out_dir, truth_top, truth_tests, !cut);
+  if (tap)
+    summary.tests_written += write_tap_tests(*tap, seed, out_dir, truth_top, truth_tests, !cut);
   if (dyno) summary.tests_written += write_dyno_group(*dyno, seed, out_dir, truth_tests);
   if (cut) {
     summary.tests_written +=

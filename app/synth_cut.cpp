@@ -255,8 +255,7 @@ int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint
       << "  tach: {threshold: 2.5}\n"
       << "sensor_to_tip: " << num(s.sensor_to_tip) << "\n";
     if (!y) throw InputError((dir / "test.yaml").string() + ": cannot write");
-    truth_tests << "  cuts/" << c.name << ": {offset_angle_deg: " << num(offset_deg)
-                << "}\n";
+    truth_tests << "  cuts/" << c.name << ": {offset_angle_deg: " << num(offset_deg) << "}\n";
     ++written;
   }
   truth_top << "modal: {m_kg: " << num(s.modal.m_kg) << ", c_kg_s: " << num(s.modal.c_kg_s)

@@ -64,7 +64,8 @@ std::map<std::string, double> truth_values(const YAML::Node& root, int teeth, in
       }
     }
   }
-  for (auto it = v.begin(); it != v.end();) it = std::isfinite(it->second) ? std::next(it) : v.erase(it);
+  for (auto it = v.begin(); it != v.end();)
+    it = std::isfinite(it->second) ? std::next(it) : v.erase(it);
   return v;
 }
 

@@ -70,7 +70,8 @@ std::string spec(int seed, const std::string& cut_tests,
          "  feed_per_tooth_mm: 0.0635\n"
          "  radial_immersion_mm: 0.382\n"
          "  operation: up-milling\n"
-         "  modal: " + cut_modal + "\n" + "  coefficients: " + cut_coefficients + "\n" +
+         "  modal: " +
+         cut_modal + "\n" + "  coefficients: " + cut_coefficients + "\n" +
          "  sensor_to_tip: 2.78\n"
          "  noise_m: 5.0e-7\n"
          "  runout_um: 3.0\n"
@@ -104,9 +105,9 @@ class Identification : public ::testing::TestWithParam<int> {};
 TEST_P(Identification, RecoversTruthFromASynthCut) {
   const int seed = GetParam();
   TempDir d;
-  const CampaignResults r =
-      synth_and_run(d, spec(seed, "    - {name: constant, axial_depth_mm: 1.0, duration_s: 0.35}\n"),
-                    "estimation: {repeat_runs: 0}\n");
+  const CampaignResults r = synth_and_run(
+      d, spec(seed, "    - {name: constant, axial_depth_mm: 1.0, duration_s: 0.35}\n"),
+      "estimation: {repeat_runs: 0}\n");
   const TestOutcome* cut = nullptr;
   for (const auto& t : r.tests) {
     if (t.spec->id == "cuts/constant") cut = &t;
@@ -130,7 +131,8 @@ TEST_P(Identification, RecoversTruthFromASynthCut) {
   chatterlab::testing::record_and_print(s + "offset_error_deg", offset_error_deg);
   chatterlab::testing::record_and_print(s + "passes", static_cast<double>(e.passes.size()));
   EXPECT_LT(offset_error_deg, kOffsetToleranceDeg);
-  for (const char* k : {"Kt1_N_m2", "Kr1_N_m2", "Kt2_N_m2", "Kr2_N_m2", "m_kg", "k_N_m", "c_kg_s"}) {
+  for (const char* k :
+       {"Kt1_N_m2", "Kr1_N_m2", "Kt2_N_m2", "Kr2_N_m2", "m_kg", "k_N_m", "c_kg_s"}) {
     const std::string q = std::string("identified.") + k;
     ASSERT_TRUE(err.count(q)) << q;
     chatterlab::testing::record_and_print(s + k + "_error_pct", err.at(q));
@@ -156,7 +158,7 @@ TEST_P(Identification, RecoversTruthFromASynthCut) {
 
   // Every variant ran, with 000 sec. 4.5's observability ranks at the operating point.
   const std::map<std::string, std::pair<int, int>> ranks = {
-      {"ekf-modal-x", {3, 5}},   {"ekf-modal-xy", {6, 7}},   {"ekf-modal-xy-mk", {6, 6}},
+      {"ekf-modal-x", {3, 5}},     {"ekf-modal-xy", {6, 7}}, {"ekf-modal-xy-mk", {6, 6}},
       {"ekf-modal-xy-mc", {6, 6}}, {"ekf-coeff-xy", {6, 6}}, {"ekf-coeff-xy-per-tooth", {6, 6}}};
   ASSERT_EQ(e.variants.size(), ranks.size());
   for (const auto& v : e.variants) {
@@ -176,12 +178,12 @@ INSTANTIATE_TEST_SUITE_P(Seeds, Identification, ::testing::Values(11, 23, 37));
 // K / k still hold (fn 0.3 %, K / k 2 %, zeta 10 %), as does the offset (0.5 deg).
 TEST(IdentificationScale, ScaleFreeValuesHoldWhenTheHammerScaleIsOff) {
   TempDir d;
-  const CampaignResults r = synth_and_run(
-      d,
-      spec(41, "    - {name: constant, axial_depth_mm: 0.8, duration_s: 0.35}\n",
-           "{m_kg: 0.030, c_kg_s: 18.0, k_N_m: 9.5e5}",
-           "{Kt_N_m2: [7.0e8, 9.0e8], Kr_N_m2: [2.5e8, 3.5e8]}"),
-      "estimation: {repeat_runs: 0}\n");
+  const CampaignResults r =
+      synth_and_run(d,
+                    spec(41, "    - {name: constant, axial_depth_mm: 0.8, duration_s: 0.35}\n",
+                         "{m_kg: 0.030, c_kg_s: 18.0, k_N_m: 9.5e5}",
+                         "{Kt_N_m2: [7.0e8, 9.0e8], Kr_N_m2: [2.5e8, 3.5e8]}"),
+                    "estimation: {repeat_runs: 0}\n");
   std::map<std::string, double> signed_err;
   double offset_error_deg = 1e9;
   for (const auto& row : compare_with_truth(r).rows) {
