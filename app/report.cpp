@@ -117,6 +117,11 @@ KeyFormat key_format(const std::string& key) {
   if (unit == "kg") return {sym + " (kg)", 1.0};
   if (unit == "kg_s") return {sym + " (kg/s)", 1.0};
   if (unit == "N_m") return {sym + " (N/m)", 1.0};
+  if (key == "fn_hz") return {"f<sub>n</sub> = &radic;(k/m) / 2&pi; (Hz), scale-free", 1.0};
+  if (key == "zeta") return {"&zeta; = c / 2&radic;(km) (%), scale-free", 0.01};
+  if (unit == "over_k_per_m" && sym.size() > 1) {
+    return {sym.substr(0, 1) + "<sub>" + sym.substr(1) + "</sub> / k (1/m), scale-free", 1.0};
+  }
   return {key, 1.0};
 }
 
@@ -139,6 +144,9 @@ std::vector<std::pair<std::string, double>> identified_list(
 json identified_rows(const CutEstimation& e) {
   json rows = json::array();
   for (const auto& [key, v] : identified_list(e.modal, e.coefficients)) {
+    rows.push_back({{"label", key_format(key).label}, {"value", key_value(key, v)}});
+  }
+  for (const auto& [key, v] : scale_free_values(e)) {
     rows.push_back({{"label", key_format(key).label}, {"value", key_value(key, v)}});
   }
   return rows;
