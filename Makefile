@@ -19,7 +19,9 @@ test: build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
 demo: build
-	@[ -f $(CAMPAIGN)/campaign.yaml ] || $(BUILD)/chatterlab synth experiments/demo.synth.yaml --out $(CAMPAIGN)
+	@if [ "$(CAMPAIGN)" = experiments/demo ] && { [ ! -f $(CAMPAIGN)/campaign.yaml ] || \
+	    [ experiments/demo.synth.yaml -nt $(CAMPAIGN)/campaign.yaml ]; }; then \
+	  rm -rf $(CAMPAIGN) && $(BUILD)/chatterlab synth experiments/demo.synth.yaml --out $(CAMPAIGN); fi
 	@$(BUILD)/chatterlab report $(CAMPAIGN) --out reports/demo
 	@echo "Report written to reports/demo/index.html and reports/demo/report.pdf"
 
