@@ -38,11 +38,11 @@ sync::CutSchedule schedule_of(const TestSpec& t) {
 // most settled cutting), on a ramp centred where the depth is 3/4 of the measured bifurcation
 // depth (chatter-free cutting, as deep as it stays chatter-free) or 3/4 of the deepest depth
 // when the run never chatters. Never earlier than settle_revolutions after the cut starts.
-EstimationWindow choose_window(const TestSpec& t, const dynamics::BifurcationResult* bif,
+EstimationWindow choose_window(const TestSpec& t, int teeth, const dynamics::BifurcationResult* bif,
                                const EstimationOptions& o, std::vector<std::string>& warnings) {
   const sync::CutSchedule s = schedule_of(t);
   const double rev_s = 60.0 / t.cut->spindle_rpm;
-  const double tau_s = rev_s / 2;  // at most one tooth period for n >= 2; generous for n = 1
+  const double tau_s = rev_s / teeth;  // the chip delay: the filters start this much later
   const double first = s.cut_start_s + o.settle_revolutions * rev_s;
   const double last = s.cut_end_s - rev_s;
   EstimationWindow w;
@@ -395,7 +395,7 @@ CutEstimation run_cut_estimation(const TestSpec& t, const CutStepInputs& in,
                                                               dyno);
 
     std::vector<std::string> warnings;
-    out.window = choose_window(t, measured_bifurcation, o, warnings);
+    out.window = choose_window(t, tool.teeth, measured_bifurcation, o, warnings);
     const estimate::MeasuredCut base = measured_window(t, tach, tip, out.window, o.resample_step_s);
     out.resampled_samples = base.x_m.size();
     const double t_first = std::ceil(out.window.start_s * t.sample_rate_hz) / t.sample_rate_hz;

@@ -173,7 +173,7 @@ CutOutcome run_cut_test(const TestSpec& t, const CutStepInputs& in, const CutSte
         "the identification sequence (000 sec. 5.1) starts from the offset angle found with the "
         "hammer-test and dynamometer values, which is not available: " +
         out.offset_status.message);
-  } else if (options.estimation.enabled) {
+  } else {
     out.estimation = run_cut_estimation(
         t, in, out.tach, tip, out.offset_measured, out.offset,
         out.ramped && out.bifurcation_status.ok ? &out.bifurcation : nullptr,

@@ -10,7 +10,6 @@ namespace chatterlab::app {
 // campaign.yaml `estimation:` (docs/formats.md). Defaults: 000 secs 6.1-6.2 where it gives a
 // value, docs/identification.md otherwise.
 struct EstimationOptions {
-  bool enabled = true;
   double window_s = 0.2;               // data the filters run over, s, > 0 (000 sec. 6.2: 0.2 s)
   double resample_step_s = 5e-7;       // 000 sec. 6.1, s, > 0
   double settle_revolutions = 20.0;    // revolutions after the cut starts that are never used
