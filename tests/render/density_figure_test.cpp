@@ -18,6 +18,7 @@
 #include "render/rgba_image.h"
 #include "render/subprocess.h"
 #include "render/temp_dir.h"
+#include "tests/support/scratch_tmpdir.h"
 
 namespace chatterlab::render {
 namespace {
@@ -68,24 +69,9 @@ constexpr Rgb kWhite{255, 255, 255};
 // cairo composites 8-bit colours; an opaque image pixel comes out within 2 of its value.
 constexpr int kColourTol = 2;
 
-class DensityFigureTest : public ::testing::Test {
+class DensityFigureTest : public chatterlab::testing::ScratchTmpdirTest {
  protected:
-  void SetUp() override {
-    old_tmpdir_ = std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "";
-    ::setenv("TMPDIR", scratch_.path().c_str(), 1);
-    out_ = scratch_.path() / "out";
-    std::filesystem::create_directory(out_);
-  }
-  void TearDown() override {
-    if (old_tmpdir_.empty()) {
-      ::unsetenv("TMPDIR");
-    } else {
-      ::setenv("TMPDIR", old_tmpdir_.c_str(), 1);
-    }
-  }
-  TempDir scratch_{"chatterlab-density-test-"};
-  std::filesystem::path out_;
-  std::string old_tmpdir_;
+  DensityFigureTest() : ScratchTmpdirTest("chatterlab-density-test-") {}
 };
 
 // Where data (x, y) of panel 0 lies on a PNG of `dpi`, in pixel coordinates (column, row),

@@ -14,6 +14,7 @@
 #include "render/render_error.h"
 #include "render/subprocess.h"
 #include "render/temp_dir.h"
+#include "tests/support/scratch_tmpdir.h"
 
 namespace chatterlab::render {
 namespace {
@@ -49,21 +50,9 @@ Figure two_panel_figure() {
 
 // A scratch folder that is also TMPDIR, so the backend's own temp folders land in it and
 // the test can see that they are removed.
-class GnuplotBackendTest : public ::testing::Test {
+class GnuplotBackendTest : public chatterlab::testing::ScratchTmpdirTest {
  protected:
-  void SetUp() override {
-    old_tmpdir_ = std::getenv("TMPDIR") ? std::getenv("TMPDIR") : "";
-    ::setenv("TMPDIR", scratch_.path().c_str(), 1);
-    out_ = scratch_.path() / "out";
-    std::filesystem::create_directory(out_);
-  }
-  void TearDown() override {
-    if (old_tmpdir_.empty()) {
-      ::unsetenv("TMPDIR");
-    } else {
-      ::setenv("TMPDIR", old_tmpdir_.c_str(), 1);
-    }
-  }
+  GnuplotBackendTest() : ScratchTmpdirTest("chatterlab-backend-test-") {}
   // Entries of the scratch folder other than out/: leftovers of the backend.
   std::size_t leftovers() const {
     std::size_t n = 0;
@@ -72,10 +61,6 @@ class GnuplotBackendTest : public ::testing::Test {
     }
     return n;
   }
-
-  TempDir scratch_{"chatterlab-backend-test-"};
-  std::filesystem::path out_;
-  std::string old_tmpdir_;
 };
 
 TEST_F(GnuplotBackendTest, WritesSvgWithLabelsLegendAndGap) {

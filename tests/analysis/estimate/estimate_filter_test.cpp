@@ -10,24 +10,7 @@
 #include "analysis/estimate/ekf.h"
 #include "analysis/estimate/ekf_options.h"
 #include "synthetic_cut.h"
-
-namespace {
-// Heap allocations counted while `g_counting` is set (as tests/analysis/milling/
-// simulation_test.cpp: malloc is interposed; not under AddressSanitizer).
-bool g_counting = false;
-long g_allocations = 0;
-}  // namespace
-
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kCountingMalloc = false;
-#else
-constexpr bool kCountingMalloc = true;
-extern "C" void* __libc_malloc(std::size_t n);
-extern "C" void* malloc(std::size_t n) {
-  if (g_counting) ++g_allocations;
-  return __libc_malloc(n);
-}
-#endif
+#include "tests/support/count_allocations.h"
 
 namespace chatterlab {
 namespace estimate {
@@ -150,8 +133,8 @@ TYPED_TEST(FilterProperties, AStepAllocatesNothing) {
   const Model model(cut.time_step_s, Discretization::kSymplecticEuler, testing::table52_modal());
   ExtendedKalmanFilter<Model> f = make_filter(model);
   const std::vector<ToothCoefficients> K = testing::table52_coefficients();
-  g_allocations = 0;
-  g_counting = true;
+  chatterlab::testing::g_allocations = 0;
+  chatterlab::testing::g_counting = true;
   for (Eigen::Index k = chips.first_step(); k + 1 < chips.samples(); ++k) {
     const StepChips c = chips.chips(k);
     ForceInput u;
@@ -163,8 +146,8 @@ TYPED_TEST(FilterProperties, AStepAllocatesNothing) {
     f.predict(u);
     f.update(measured<Model>(cut, k + 1), (k & 1) == 0);
   }
-  g_counting = false;
-  EXPECT_EQ(g_allocations, 0);
+  chatterlab::testing::g_counting = false;
+  EXPECT_EQ(chatterlab::testing::g_allocations, 0);
 }
 
 TYPED_TEST(FilterProperties, ParameterHoldLeavesParametersAndTheirCovariance) {

@@ -7,26 +7,8 @@
 #include <cstdlib>
 #include <string>
 
+#include "tests/support/count_allocations.h"
 #include "tests/support/record_property.h"
-
-namespace {
-// Heap allocations counted while `g_counting` is set (NoHeapAllocationInTheStepLoop). malloc is
-// interposed (glibc's own is __libc_malloc): it sees operator new and Eigen's allocations alike.
-// Not under AddressSanitizer, which interposes malloc itself.
-bool g_counting = false;
-long g_allocations = 0;
-}  // namespace
-
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kCountingMalloc = false;
-#else
-constexpr bool kCountingMalloc = true;
-extern "C" void* __libc_malloc(std::size_t n);
-extern "C" void* malloc(std::size_t n) {
-  if (g_counting) ++g_allocations;
-  return __libc_malloc(n);
-}
-#endif
 
 namespace chatterlab {
 namespace milling {
@@ -230,12 +212,12 @@ TEST(Simulation, NoHeapAllocationInTheStepLoop) {
       rq.full_revolutions = {5, 9};
       rq.trace_first_revolution = 3;
       rq.trace_revolutions = 4;
-      g_allocations = 0;
-      g_counting = true;
+      chatterlab::testing::g_allocations = 0;
+      chatterlab::testing::g_counting = true;
       const SimulationResult r = simulate(o, rq);
-      g_counting = false;
+      chatterlab::testing::g_counting = false;
       ASSERT_TRUE(r.summary.ok);
-      counts[i] = g_allocations;
+      counts[i] = chatterlab::testing::g_allocations;
     }
     EXPECT_EQ(counts[0], counts[1]) << "variant " << variant;
     EXPECT_GT(counts[0], 0);  // the counter works
