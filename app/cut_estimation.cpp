@@ -338,6 +338,18 @@ SimulatedBifurcation simulate_ramp(const TestSpec& t, const milling::SimulationO
 
 }  // namespace
 
+std::vector<std::pair<std::string, double>> keyed_values(
+    const estimate::ModalParameters& modal,
+    const std::vector<estimate::ToothCoefficients>& coefficients) {
+  std::vector<std::pair<std::string, double>> out = {
+      {"m_kg", modal.m_kg}, {"c_kg_s", modal.c_kg_s}, {"k_N_m", modal.k_N_m}};
+  for (std::size_t p = 0; p < coefficients.size(); ++p) {
+    out.emplace_back("Kt" + std::to_string(p + 1) + "_N_m2", coefficients[p].Kt_N_m2);
+    out.emplace_back("Kr" + std::to_string(p + 1) + "_N_m2", coefficients[p].Kr_N_m2);
+  }
+  return out;
+}
+
 std::vector<std::pair<std::string, double>> scale_free_values(const CutEstimation& e) {
   const estimate::ModalParameters& m = e.modal;
   std::vector<std::pair<std::string, double>> v = {

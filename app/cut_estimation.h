@@ -92,6 +92,12 @@ struct CutEstimation {
   double runtime_s = 0.0;
 };
 
+// m, c, k and every Kt_p, Kr_p under their results.json keys (m_kg, c_kg_s, k_N_m, Kt1_N_m2,
+// Kr1_N_m2, ...), in that order: one identification pass's values, or the identified ones.
+std::vector<std::pair<std::string, double>> keyed_values(
+    const estimate::ModalParameters& modal,
+    const std::vector<estimate::ToothCoefficients>& coefficients);
+
 // The combinations of the identified values that tool-deflection data determine without an
 // outside scale (docs/identification.md, "Scale"): fn_hz = sqrt(k / m) / 2 pi,
 // zeta = c / (2 sqrt(k m)), and per tooth Kt<p>_over_k_per_m = Kt_p / k, Kr<p>_over_k_per_m.

@@ -129,21 +129,9 @@ std::string key_value(const std::string& key, double v) {
   return fmt_sig(v / key_format(key).scale, 4);
 }
 
-// Identified values under their keys, in results.json order: m, c, k, then Kt_p, Kr_p.
-std::vector<std::pair<std::string, double>> identified_list(
-    const estimate::ModalParameters& m, const std::vector<estimate::ToothCoefficients>& k) {
-  std::vector<std::pair<std::string, double>> out = {
-      {"m_kg", m.m_kg}, {"c_kg_s", m.c_kg_s}, {"k_N_m", m.k_N_m}};
-  for (std::size_t p = 0; p < k.size(); ++p) {
-    out.emplace_back("Kt" + std::to_string(p + 1) + "_N_m2", k[p].Kt_N_m2);
-    out.emplace_back("Kr" + std::to_string(p + 1) + "_N_m2", k[p].Kr_N_m2);
-  }
-  return out;
-}
-
 json identified_rows(const CutEstimation& e) {
   json rows = json::array();
-  for (const auto& [key, v] : identified_list(e.modal, e.coefficients)) {
+  for (const auto& [key, v] : keyed_values(e.modal, e.coefficients)) {
     rows.push_back({{"label", key_format(key).label}, {"value", key_value(key, v)}});
   }
   for (const auto& [key, v] : scale_free_values(e)) {
@@ -296,7 +284,7 @@ json cut_context(const CampaignResults& r, const TestOutcome& t, const FigureSet
     json columns = json::array({"Offset used (deg)", "Offset found (deg)"});
     if (!e.passes.empty()) {
       for (const auto& [key, v] :
-           identified_list(e.passes.front().modal, e.passes.front().coefficients)) {
+           keyed_values(e.passes.front().modal, e.passes.front().coefficients)) {
         columns.push_back(key_format(key).label);
       }
     }
@@ -304,7 +292,7 @@ json cut_context(const CampaignResults& r, const TestOutcome& t, const FigureSet
     for (std::size_t i = 0; i < e.passes.size(); ++i) {
       const auto& p = e.passes[i];
       json cells = json::array({fmt_fixed(p.offset_deg, 2), fmt_fixed(p.offset_after_deg, 2)});
-      for (const auto& [key, v] : identified_list(p.modal, p.coefficients)) {
+      for (const auto& [key, v] : keyed_values(p.modal, p.coefficients)) {
         cells.push_back(key_value(key, v));
       }
       passes.push_back({{"n", i + 1}, {"cells", cells}});

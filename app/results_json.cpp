@@ -64,23 +64,15 @@ json dyno_json(const DynoRecordOutcome& d) {
           {"switching_contrast", number_or_null(r.switching_contrast)}};
 }
 
-json modal_json(const estimate::ModalParameters& m) {
-  return {{"m_kg", number_or_null(m.m_kg)},
-          {"c_kg_s", number_or_null(m.c_kg_s)},
-          {"k_N_m", number_or_null(m.k_N_m)}};
-}
-
-void add_coefficients(json& j, const std::vector<estimate::ToothCoefficients>& k) {
-  for (std::size_t p = 0; p < k.size(); ++p) {
-    const std::string n = std::to_string(p + 1);
-    j["Kt" + n + "_N_m2"] = number_or_null(k[p].Kt_N_m2);
-    j["Kr" + n + "_N_m2"] = number_or_null(k[p].Kr_N_m2);
-  }
+json values_json(const estimate::ModalParameters& m,
+                 const std::vector<estimate::ToothCoefficients>& k) {
+  json j = json::object();
+  for (const auto& [key, v] : keyed_values(m, k)) j[key] = number_or_null(v);
+  return j;
 }
 
 json identified_json(const CutEstimation& e) {
-  json j = modal_json(e.modal);
-  add_coefficients(j, e.coefficients);
+  json j = values_json(e.modal, e.coefficients);
   // The scale-free combinations that deflection data determine on their own
   // (docs/identification.md, "Scale").
   for (const auto& [k, v] : scale_free_values(e)) j[k] = number_or_null(v);
@@ -151,8 +143,7 @@ json estimation_json(const CutEstimation& e) {
   j["resampled_samples"] = e.resampled_samples;
   json passes = json::array();
   for (const auto& p : e.passes) {
-    json pj = modal_json(p.modal);
-    add_coefficients(pj, p.coefficients);
+    json pj = values_json(p.modal, p.coefficients);
     pj["offset_used_deg"] = p.offset_deg;
     pj["offset_found_deg"] = p.offset_after_deg;
     pj["offset_relative_error"] = number_or_null(p.offset_relative_error);

@@ -70,12 +70,8 @@ std::map<std::string, double> truth_values(const YAML::Node& root, int teeth, in
 }
 
 std::map<std::string, double> identified_values(const CutEstimation& e) {
-  std::map<std::string, double> v{
-      {"m_kg", e.modal.m_kg}, {"c_kg_s", e.modal.c_kg_s}, {"k_N_m", e.modal.k_N_m}};
-  for (std::size_t p = 0; p < e.coefficients.size(); ++p) {
-    v["Kt" + std::to_string(p + 1) + "_N_m2"] = e.coefficients[p].Kt_N_m2;
-    v["Kr" + std::to_string(p + 1) + "_N_m2"] = e.coefficients[p].Kr_N_m2;
-  }
+  std::map<std::string, double> v;
+  for (const auto& [k, value] : keyed_values(e.modal, e.coefficients)) v[k] = value;
   for (const auto& [k, value] : scale_free_values(e)) v[k] = value;
   return v;
 }
