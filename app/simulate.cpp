@@ -9,12 +9,12 @@
 #include "analysis/dynamics/bifurcation.h"
 #include "analysis/dynamics/poincare.h"
 #include "analysis/milling/simulation.h"
-#include "app/document.h"
-#include "app/dynamics_figures.h"
-#include "app/format.h"
-#include "app/hashing.h"
-#include "app/parallel.h"
-#include "app/results_json.h"
+#include "app/core/format.h"
+#include "app/core/hashing.h"
+#include "app/core/parallel.h"
+#include "app/report/document.h"
+#include "app/report/dynamics_figures.h"
+#include "app/report/results_json.h"
 #include "render/gnuplot_backend.h"
 
 namespace chatterlab::app {

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "analysis/common/summary.h"
-#include "app/yaml_reader.h"
+#include "app/core/yaml_reader.h"
 
 namespace chatterlab::app {
 namespace {

@@ -8,10 +8,10 @@
 
 #include "analysis/common/summary.h"
 #include "analysis/cutting/slot_synth.h"
-#include "app/signals.h"
+#include "app/core/signals.h"
+#include "app/core/yaml_reader.h"
 #include "app/synth_cut.h"
 #include "app/synth_tap.h"
-#include "app/yaml_reader.h"
 
 namespace chatterlab::app {
 namespace {

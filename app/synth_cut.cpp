@@ -6,7 +6,7 @@
 
 #include "analysis/common/summary.h"
 #include "analysis/milling/simulation.h"
-#include "app/signals.h"
+#include "app/core/signals.h"
 
 namespace chatterlab::app {
 namespace {

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "app/core/yaml_reader.h"
 #include "app/simulation_spec.h"
-#include "app/yaml_reader.h"
 
 namespace chatterlab::app {
 

@@ -6,8 +6,8 @@
 
 #include "analysis/common/summary.h"
 #include "analysis/frf/modal_response.h"
-#include "app/signals.h"
-#include "app/tap_step.h"
+#include "app/core/signals.h"
+#include "app/kinds/tap/tap_step.h"
 
 namespace chatterlab::app {
 namespace {

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "analysis/frf/mode.h"
-#include "app/yaml_reader.h"
+#include "app/core/yaml_reader.h"
 
 namespace chatterlab::app {
 

@@ -6,8 +6,9 @@
 #include <cmath>
 
 #include "analysis/milling/simulation.h"
-#include "app/campaign.h"
-#include "app/signals.h"
+#include "app/core/campaign.h"
+#include "app/core/signals.h"
+#include "app/kinds/cut/cut_spec.h"
 #include "app/synth.h"
 #include "tests/support/temp_campaign.h"
 
@@ -40,8 +41,9 @@ TEST(SynthCut, TachometerSensorsAndTruth) {
   ASSERT_EQ(c.tests.size(), 1u);
   const TestSpec& t = c.tests[0];
   ASSERT_TRUE(t.usable()) << t.errors.front();
-  ASSERT_TRUE(t.cut.has_value());
-  EXPECT_DOUBLE_EQ(t.cut->cut_window_s.first, 10 * 0.004);  // 10 air revolutions of 4 ms
+  ASSERT_NE(dynamic_cast<const CutSpec*>(t.params.get()), nullptr);
+  EXPECT_DOUBLE_EQ(t.kind_spec<CutSpec>().cut_window_s.first,
+                   10 * 0.004);  // 10 air revolutions of 4 ms
   const SignalTable table = SignalTable::open(t.data, "signals.f32");
   const Eigen::VectorXd tach = table.channel("tach", t.channel("tach"));
   const Eigen::VectorXd x = table.channel("x", t.channel("x"));  // metres at the sensor
@@ -76,7 +78,7 @@ TEST(SynthCut, TachometerSensorsAndTruth) {
   double worst = 0, largest = 0;
   for (Eigen::Index k = 0; k < 10 * P; ++k) {
     const Eigen::Index i = 10 * P + k;
-    const double tip = (x[i] - x[i % P]) * t.cut->sensor_to_tip;
+    const double tip = (x[i] - x[i % P]) * t.kind_spec<CutSpec>().sensor_to_tip;
     const double truth = sim.trace.x_m[static_cast<std::size_t>(4 * k)];
     worst = std::max(worst, std::abs(tip - truth));
     largest = std::max(largest, std::abs(truth));

@@ -1,0 +1,221 @@
+#include "app/core/campaign.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <set>
+
+#include "app/core/yaml_reader.h"
+#include "app/pipeline/registry.h"
+
+namespace chatterlab::app {
+namespace {
+
+constexpr double kMm = 1e-3;
+const char* kCampaignFormat = "chatterlab-campaign/1";
+
+YAML::Node load_yaml(const fs::path& file, const std::string& label,
+                     std::vector<std::string>* errors) {
+  try {
+    YAML::Node n = YAML::LoadFile(file.string());
+    if (!n.IsMap()) {
+      errors->push_back(label + ": must be a YAML mapping of keys");
+      return YAML::Node();
+    }
+    return n;
+  } catch (const YAML::Exception& e) {
+    errors->push_back(label + ": not valid YAML (" + e.what() + ")");
+    return YAML::Node();
+  }
+}
+
+void read_channels(const YAML::Node& root, YamlReader& r, TestSpec& t) {
+  const YAML::Node ch = root["channels"];
+  if (!ch) return;
+  if (!ch.IsMap()) {
+    r.error("channels", "must be a mapping of channel names");
+    return;
+  }
+  for (const auto& kv : ch) {
+    const auto name = kv.first.as<std::string>();
+    const std::string path = "channels." + name;
+    ChannelSpec c;
+    if (!kv.second.IsMap()) {
+      r.error(path, "must be a mapping such as {scale: 1.0, offset: 0.0}");
+      continue;
+    }
+    r.check_keys(kv.second, {"scale", "offset", "threshold"}, path);
+    c.scale = r.optional_double(kv.second, "scale", path).value_or(1.0);
+    c.offset = r.optional_double(kv.second, "offset", path).value_or(0.0);
+    c.threshold = r.optional_double(kv.second, "threshold", path);
+    t.channels[name] = c;
+  }
+}
+
+}  // namespace
+
+const std::vector<std::string>& CampaignSpec::errors_of_block(const std::string& key) const {
+  static const std::vector<std::string> kNone;
+  const auto it = block_errors.find(key);
+  return it == block_errors.end() ? kNone : it->second;
+}
+
+ChannelSpec TestSpec::channel(const std::string& name) const {
+  const auto it = channels.find(name);
+  return it == channels.end() ? ChannelSpec{} : it->second;
+}
+
+TestSpec load_test(const fs::path& campaign_root, const fs::path& test_yaml,
+                   const KindRegistry& kinds) {
+  TestSpec t;
+  t.folder = test_yaml.parent_path();
+  t.id = fs::relative(t.folder, campaign_root).generic_string();
+  if (t.id == ".") t.id = "";
+  t.yaml_label = (t.id.empty() ? "" : t.id + "/") + "test.yaml";
+  const YAML::Node root = load_yaml(test_yaml, t.yaml_label, &t.errors);
+  if (!root) return t;
+
+  YamlReader r(t.yaml_label);
+  t.kind = r.required_string(root, "kind");
+  std::set<std::string> known = {"kind", "sample_rate_hz", "data", "channels", "reference"};
+  t.sample_rate_hz = r.required_double(root, "sample_rate_hz");
+  if (!(t.sample_rate_hz > 0)) {
+    if (!std::isnan(t.sample_rate_hz)) {
+      r.error("sample_rate_hz", "= " + std::to_string(t.sample_rate_hz) + ": must be > 0");
+    }
+  }
+
+  const YAML::Node data = root["data"];
+  if (!data) {
+    r.error("data", "is missing");
+  } else if (!data.IsMap()) {
+    r.error("data", "must be a mapping such as {file: signals.f32, channels: [x, y, tach]}");
+  } else {
+    r.check_keys(data, {"file", "channels"}, "data");
+    t.data.relative_file = r.required_string(data, "file", "data");
+    if (!t.data.relative_file.empty()) t.data.file = t.folder / t.data.relative_file;
+    t.data.channels = r.string_list(data, "channels", false, "data");
+    const auto ext = t.data.file.extension().string();
+    if (!t.data.relative_file.empty()) {
+      if (ext == ".f32" || ext == ".f64") {
+        if (t.data.channels.empty()) r.error("data.channels", "is required for a raw binary file");
+      } else if (ext != ".csv") {
+        r.error("data.file", "'" + t.data.relative_file +
+                                 "': unsupported signal format (use .csv, .f32 or .f64)");
+      }
+      if (!fs::exists(t.data.file)) {
+        r.error("data.file", "'" + t.data.relative_file + "': file not found");
+      }
+    }
+  }
+  read_channels(root, r, t);
+  if (const YAML::Node ref = root["reference"]; ref && ref.IsMap()) {
+    for (const auto& kv : ref) {
+      try {
+        t.reference[kv.first.as<std::string>()] = kv.second.as<double>();
+      } catch (const YAML::Exception&) {
+        r.warn("reference." + kv.first.as<std::string>(), "is not a number and is ignored");
+      }
+    }
+  }
+
+  if (const TestKind* kind = kinds.find(t.kind)) {
+    t.params = kind->parse(root, r);
+    for (const auto& k : kind->keys()) known.insert(k);
+  } else if (!t.kind.empty()) {
+    r.error("kind", "'" + t.kind + "' is not a known test kind (" + kinds.names() + ")");
+  }
+  r.check_keys(root, known);
+  t.errors.insert(t.errors.end(), r.errors().begin(), r.errors().end());
+  t.warnings.insert(t.warnings.end(), r.warnings().begin(), r.warnings().end());
+  return t;
+}
+
+CampaignSpec load_campaign(const fs::path& root_in, const KindRegistry& kinds) {
+  CampaignSpec c;
+  c.root = fs::absolute(root_in).lexically_normal();
+  const fs::path yaml = c.root / "campaign.yaml";
+  if (!fs::is_directory(c.root)) {
+    c.errors.push_back(root_in.string() + ": not a folder");
+    return c;
+  }
+  if (!fs::exists(yaml)) {
+    c.errors.push_back("campaign.yaml: file not found in " + c.root.string());
+    return c;
+  }
+  const YAML::Node root = load_yaml(yaml, "campaign.yaml", &c.errors);
+  if (root) {
+    YamlReader r("campaign.yaml");
+    std::set<std::string> known = {"format", "name", "description", "tool", "workpiece", "machine"};
+    for (const auto& k : kinds.kinds()) {
+      for (const auto& b : k->campaign_blocks()) known.insert(b);
+    }
+    r.check_keys(root, known);
+    const auto format = r.required_string(root, "format");
+    if (!format.empty() && format != kCampaignFormat) {
+      r.error("format", "'" + format + "': must be '" + kCampaignFormat + "'");
+    }
+    c.name = r.required_string(root, "name");
+    const bool name_ok = std::all_of(c.name.begin(), c.name.end(), [](char ch) {
+      return std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '_' || ch == '-';
+    });
+    if (!c.name.empty() && !name_ok) {
+      r.error("name", "'" + c.name + "': must match [A-Za-z0-9._-]+");
+    }
+    c.description = r.optional_string(root, "description").value_or("");
+    c.workpiece = r.optional_string(root, "workpiece").value_or("");
+    c.machine = r.optional_string(root, "machine").value_or("");
+    if (const YAML::Node tool = root["tool"]; tool) {
+      if (!tool.IsMap()) {
+        r.error("tool", "must be a mapping {teeth, radius_mm, helix_deg}");
+      } else {
+        r.check_keys(tool, {"teeth", "radius_mm", "helix_deg"}, "tool");
+        ToolSpec ts;
+        const double teeth = r.required_double(tool, "teeth", "tool");
+        if (!(teeth >= 1) || teeth != std::floor(teeth)) {
+          if (!std::isnan(teeth)) r.error("tool.teeth", "must be a whole number >= 1");
+        }
+        ts.teeth = std::isnan(teeth) ? 0 : static_cast<int>(teeth);
+        ts.radius_m = r.required_double(tool, "radius_mm", "tool") * kMm;
+        if (!(ts.radius_m > 0) && !std::isnan(ts.radius_m))
+          r.error("tool.radius_mm", "must be > 0");
+        ts.helix_deg = r.optional_double(tool, "helix_deg", "tool");
+        if (r.errors().empty()) c.tool = ts;
+      }
+    }
+    c.errors.insert(c.errors.end(), r.errors().begin(), r.errors().end());
+    c.warnings.insert(c.warnings.end(), r.warnings().begin(), r.warnings().end());
+  }
+  // Kinds' blocks, defaults when absent (or when campaign.yaml could not be read).
+  for (const auto& k : kinds.kinds()) {
+    for (const auto& b : k->campaign_blocks()) {
+      YamlReader br("campaign.yaml");
+      const YAML::Node node = root ? root[b] : YAML::Node(YAML::NodeType::Undefined);
+      c.blocks[b] = k->parse_campaign_block(b, node, br);
+      if (!br.errors().empty()) c.block_errors[b] = br.errors();
+      c.warnings.insert(c.warnings.end(), br.warnings().begin(), br.warnings().end());
+    }
+  }
+  c.truth_file = c.root / "truth.yaml";
+  c.has_truth = fs::exists(c.truth_file);
+
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(
+           c.root, fs::directory_options::skip_permission_denied, ec);
+       it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    if (ec) break;
+    if (it->is_regular_file() && it->path().filename() == "test.yaml") {
+      c.tests.push_back(load_test(c.root, it->path(), kinds));
+    }
+  }
+  std::sort(c.tests.begin(), c.tests.end(),
+            [](const TestSpec& a, const TestSpec& b) { return a.id < b.id; });
+  for (auto& t : c.tests) {
+    if (const TestKind* kind = kinds.find(t.kind)) {
+      for (auto& e : kind->check_campaign(c, t)) t.errors.push_back(std::move(e));
+    }
+  }
+  return c;
+}
+
+}  // namespace chatterlab::app

@@ -1,0 +1,112 @@
+// The campaign folder of EXPERIMENT_FORMAT.md section 1: campaign.yaml, recursive test.yaml
+// discovery, and the typed, validated description of every test.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace chatterlab::app {
+
+namespace fs = std::filesystem;
+
+struct ToolSpec {
+  int teeth = 0;
+  double radius_m = 0.0;
+  std::optional<double> helix_deg;
+};
+
+struct ChannelSpec {
+  double scale = 1.0;  // physical = scale * raw + offset
+  double offset = 0.0;
+  std::optional<double> threshold;  // pulse channels (tach, zero): rising-edge threshold
+};
+
+struct DataSpec {
+  fs::path file;                      // absolute path
+  std::string relative_file;          // as written in test.yaml
+  std::vector<std::string> channels;  // required for raw binary files
+};
+
+// A kind's own test.yaml keys, parsed (TapSpec, CutSpec, ...: each kind derives its own).
+struct KindSpec {
+  virtual ~KindSpec() = default;
+};
+
+struct TestSpec {
+  std::string id;  // folder relative to campaign root, '/' separated
+  fs::path folder;
+  std::string yaml_label;  // "<id>/test.yaml", used in messages
+  std::string kind;
+  double sample_rate_hz = 0.0;
+  DataSpec data;
+  std::map<std::string, ChannelSpec> channels;
+  std::map<std::string, double> reference;
+  // The kind's own keys (TestKind::parse; always set once the kind is known, even when the
+  // keys had errors). Shared: specs are copied with their campaign and never changed after
+  // loading.
+  std::shared_ptr<const KindSpec> params;
+
+  std::vector<std::string> errors;    // any error makes the test unusable
+  std::vector<std::string> warnings;  // ignored keys and the like
+  bool usable() const { return errors.empty(); }
+
+  // Calibration of `name` (defaults when test.yaml names none).
+  ChannelSpec channel(const std::string& name) const;
+
+  // The kind's keys as its own type. A spec of another type is a broken invariant (the kind
+  // asked for another kind's keys): std::logic_error, an internal error.
+  template <class T>
+  const T& kind_spec() const {
+    const T* p = dynamic_cast<const T*>(params.get());
+    if (!p) throw std::logic_error(yaml_label + ": the test's keys are not of kind " + kind);
+    return *p;
+  }
+};
+
+struct CampaignSpec {
+  fs::path root;
+  std::string name;
+  std::string description;
+  std::optional<ToolSpec> tool;
+  std::string workpiece;
+  std::string machine;
+  bool has_truth = false;
+  fs::path truth_file;
+  // campaign.yaml blocks owned by kinds (TestKind::campaign_blocks, e.g. the cut kind's
+  // `estimation:`), parsed by their kind, defaults when absent. Their errors do not stop the
+  // campaign: the steps that use a block fail with them and everything else runs.
+  std::map<std::string, std::shared_ptr<const KindSpec>> blocks;
+  std::map<std::string, std::vector<std::string>> block_errors;
+
+  std::vector<TestSpec> tests;      // sorted by id
+  std::vector<std::string> errors;  // campaign-level: the campaign cannot be run
+  std::vector<std::string> warnings;
+
+  // Block `key` as its kind's type; nullptr when absent or of another type.
+  template <class T>
+  const T* block(const std::string& key) const {
+    const auto it = blocks.find(key);
+    return it == blocks.end() ? nullptr : dynamic_cast<const T*>(it->second.get());
+  }
+  // The problems of block `key` (empty when it is fine).
+  const std::vector<std::string>& errors_of_block(const std::string& key) const;
+};
+
+class KindRegistry;
+const KindRegistry& builtin_kinds();
+
+// Reads campaign.yaml and every test.yaml below `root`, each test's own keys through its kind
+// in `kinds`. Never throws for bad content: problems are collected in the specs (campaign
+// errors, or per-test errors).
+CampaignSpec load_campaign(const fs::path& root, const KindRegistry& kinds = builtin_kinds());
+
+// Parses one test.yaml (exposed for tests).
+TestSpec load_test(const fs::path& campaign_root, const fs::path& test_yaml,
+                   const KindRegistry& kinds = builtin_kinds());
+
+}  // namespace chatterlab::app

@@ -1,0 +1,29 @@
+#include "app/core/format.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace chatterlab::app {
+
+std::string fmt_sig(double v, int digits) {
+  if (!std::isfinite(v)) return "n/a";
+  char buf[64];
+  const double a = std::abs(v);
+  if (a != 0 && (a < 1e-3 || a >= 1e6)) {
+    std::snprintf(buf, sizeof(buf), "%.*e", digits - 1, v);
+  } else {
+    std::snprintf(buf, sizeof(buf), "%.*g", digits, v);
+  }
+  return buf;
+}
+
+std::string fmt_fixed(double v, int decimals) {
+  if (!std::isfinite(v)) return "n/a";
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
+  std::string s = buf;
+  if (s[0] == '-' && s.find_first_not_of("-0.") == std::string::npos) s.erase(0, 1);  // "-0.00"
+  return s;
+}
+
+}  // namespace chatterlab::app

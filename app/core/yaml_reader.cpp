@@ -1,0 +1,198 @@
+#include "app/core/yaml_reader.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace chatterlab::app {
+namespace {
+
+bool as_double(const YAML::Node& n, double* out) {
+  if (!n.IsScalar()) return false;
+  try {
+    *out = n.as<double>();
+  } catch (const YAML::Exception&) {
+    return false;
+  }
+  return true;
+}
+
+std::string describe(const YAML::Node& n) {
+  if (n.IsScalar()) return "'" + n.Scalar() + "'";
+  if (n.IsSequence()) return "a list";
+  if (n.IsMap()) return "a mapping";
+  return "null";
+}
+
+}  // namespace
+
+int edit_distance(const std::string& a, const std::string& b) {
+  std::vector<int> prev(b.size() + 1), cur(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) prev[j] = static_cast<int>(j);
+  for (size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = static_cast<int>(i);
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const int sub = prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1);
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, sub});
+    }
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+bool looks_like(const std::string& written, const std::string& wanted) {
+  if (written == wanted) return false;
+  if (edit_distance(written, wanted) <= 2) return true;
+  const auto& shorter = written.size() < wanted.size() ? written : wanted;
+  const auto& longer = written.size() < wanted.size() ? wanted : written;
+  return shorter.size() >= 4 && longer.compare(0, shorter.size(), shorter) == 0 &&
+         longer[shorter.size()] == '_';
+}
+
+std::string YamlReader::key_path(const std::string& path, const std::string& key) const {
+  return path.empty() ? key : path + "." + key;
+}
+
+void YamlReader::error(const std::string& key_path, const std::string& what) {
+  errors_.push_back(file_ + ": key '" + key_path + "' " + what);
+}
+
+void YamlReader::warn(const std::string& key_path, const std::string& what) {
+  warnings_.push_back(file_ + ": key '" + key_path + "' " + what);
+}
+
+std::string YamlReader::missing_message(const YAML::Node& map, const std::string& key) const {
+  std::string msg = "is missing";
+  if (map.IsMap()) {
+    std::string best;
+    int best_d = 1 << 20;
+    for (const auto& kv : map) {
+      const auto k = kv.first.as<std::string>();
+      const int d = edit_distance(k, key);
+      if (looks_like(k, key) && d < best_d) {
+        best_d = d;
+        best = k;
+      }
+    }
+    if (!best.empty()) msg += " (found '" + best + "': misspelt?)";
+  }
+  return msg;
+}
+
+double YamlReader::required_double(const YAML::Node& map, const std::string& key,
+                                   const std::string& path) {
+  const YAML::Node n = map.IsMap() ? map[key] : YAML::Node();
+  if (!n) {
+    error(key_path(path, key), missing_message(map, key));
+    return std::nan("");
+  }
+  double v = 0;
+  if (!as_double(n, &v)) {
+    error(key_path(path, key), "must be a number, got " + describe(n));
+    return std::nan("");
+  }
+  return v;
+}
+
+std::string YamlReader::required_string(const YAML::Node& map, const std::string& key,
+                                        const std::string& path) {
+  const YAML::Node n = map.IsMap() ? map[key] : YAML::Node();
+  if (!n) {
+    error(key_path(path, key), missing_message(map, key));
+    return {};
+  }
+  if (!n.IsScalar()) {
+    error(key_path(path, key), "must be a string, got " + describe(n));
+    return {};
+  }
+  return n.Scalar();
+}
+
+std::optional<double> YamlReader::optional_double(const YAML::Node& map, const std::string& key,
+                                                  const std::string& path) {
+  const YAML::Node n = map.IsMap() ? map[key] : YAML::Node();
+  if (!n) return std::nullopt;
+  double v = 0;
+  if (!as_double(n, &v)) {
+    error(key_path(path, key), "must be a number, got " + describe(n));
+    return std::nullopt;
+  }
+  return v;
+}
+
+std::optional<std::string> YamlReader::optional_string(const YAML::Node& map,
+                                                       const std::string& key,
+                                                       const std::string& path) {
+  const YAML::Node n = map.IsMap() ? map[key] : YAML::Node();
+  if (!n) return std::nullopt;
+  if (!n.IsScalar()) {
+    error(key_path(path, key), "must be a string, got " + describe(n));
+    return std::nullopt;
+  }
+  return n.Scalar();
+}
+
+std::optional<std::pair<double, double>> YamlReader::optional_pair(const YAML::Node& map,
+                                                                   const std::string& key,
+                                                                   const std::string& path) {
+  const YAML::Node n = map.IsMap() ? map[key] : YAML::Node();
+  if (!n) return std::nullopt;
+  double a = 0, b = 0;
+  if (!n.IsSequence() || n.size() != 2 || !as_double(n[0], &a) || !as_double(n[1], &b)) {
+    error(key_path(path, key), "must be a list of two numbers [a, b], got " + describe(n));
+    return std::nullopt;
+  }
+  return std::make_pair(a, b);
+}
+
+std::optional<std::pair<double, double>> YamlReader::optional_number_or_pair(
+    const YAML::Node& map, const std::string& key, const std::string& path) {
+  const YAML::Node n = map.IsMap() ? map[key] : YAML::Node();
+  if (!n) return std::nullopt;
+  double a = 0;
+  if (n.IsScalar()) {
+    if (!as_double(n, &a)) {
+      error(key_path(path, key), "must be a number or a list [start, end], got " + describe(n));
+      return std::nullopt;
+    }
+    return std::make_pair(a, a);
+  }
+  return optional_pair(map, key, path);
+}
+
+std::vector<std::string> YamlReader::string_list(const YAML::Node& map, const std::string& key,
+                                                 bool required, const std::string& path) {
+  std::vector<std::string> out;
+  const YAML::Node n = map.IsMap() ? map[key] : YAML::Node();
+  if (!n) {
+    if (required) error(key_path(path, key), missing_message(map, key));
+    return out;
+  }
+  if (!n.IsSequence()) {
+    error(key_path(path, key), "must be a list of names, got " + describe(n));
+    return out;
+  }
+  for (const auto& e : n) {
+    if (!e.IsScalar()) {
+      error(key_path(path, key), "must be a list of names, got an element " + describe(e));
+      return {};
+    }
+    out.push_back(e.Scalar());
+  }
+  return out;
+}
+
+void YamlReader::check_keys(const YAML::Node& map, const std::set<std::string>& known,
+                            const std::string& path) {
+  if (!map.IsMap()) return;
+  for (const auto& kv : map) {
+    const auto k = kv.first.as<std::string>();
+    if (known.count(k)) continue;
+    std::string hint;
+    for (const auto& cand : known) {
+      if (looks_like(k, cand)) hint = " (did you mean '" + cand + "'?)";
+    }
+    warn(key_path(path, k), "is not part of the format and is ignored" + hint);
+  }
+}
+
+}  // namespace chatterlab::app

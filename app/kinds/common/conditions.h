@@ -1,0 +1,22 @@
+// test.yaml keys that several kinds share (docs/formats.md).
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <optional>
+#include <string>
+
+#include "app/core/campaign.h"
+#include "app/core/yaml_reader.h"
+
+namespace chatterlab::app {
+
+inline constexpr double kMm = 1e-3;  // m per mm (test.yaml lengths are in mm)
+
+// spindle_rpm and feed_per_tooth_mm (cut and dyno-slot tests), both required and > 0.
+void read_speed_and_feed(const YAML::Node& root, YamlReader& r, double* rpm, double* feed_m);
+
+// The problem of a test that needs campaign.yaml's tool, when it has none.
+std::optional<std::string> needs_tool(const CampaignSpec& c, const TestSpec& t);
+
+}  // namespace chatterlab::app

@@ -1,0 +1,195 @@
+// results.json keys of a cut test (docs/formats.md, "results.json"): offset, measured
+// bifurcation, identification passes, every estimator variant, and the campaign's
+// `identified` block.
+#include <cmath>
+
+#include "app/kinds/cut/cut_kind.h"
+#include "app/report/results_json.h"
+
+namespace chatterlab::app {
+
+using nlohmann::json;
+
+namespace {
+
+json values_json(const estimate::ModalParameters& m,
+                 const std::vector<estimate::ToothCoefficients>& k) {
+  json j = json::object();
+  for (const auto& [key, v] : keyed_values(m, k)) j[key] = number_or_null(v);
+  return j;
+}
+
+json identified_json(const CutEstimation& e) {
+  json j = values_json(e.modal, e.coefficients);
+  // The scale-free combinations that deflection data determine on their own
+  // (docs/identification.md, "Scale").
+  for (const auto& [k, v] : scale_free_values(e)) j[k] = number_or_null(v);
+  return j;
+}
+
+json variant_json(const VariantOutcome& v) {
+  const estimate::EkfResult& r = v.run;
+  json j;
+  if (!r.summary.ok) {
+    j["status"] = "failed";
+    j["message"] = r.summary.message;
+    return j;
+  }
+  json est = json::object(), var = json::object();
+  for (const auto& e : r.estimates) {
+    est[e.key] = number_or_null(e.value);
+    var[e.key] = number_or_null(e.variance);
+  }
+  j["estimates"] = est;
+  j["final_variance"] = var;
+  j["runtime_s"] = r.runtime_s;
+  j["steps"] = r.steps;
+  j["filters"] = r.filters;
+  j["time_step_s"] = r.time_step_s;
+  j["steps_per_s"] = r.runtime_s > 0 ? json(static_cast<double>(r.steps * r.filters) / r.runtime_s)
+                                     : json(nullptr);
+  j["known"] = v.known;
+  j["start"] = v.start;
+  if (v.observability_status.ok) {
+    j["observability_rank"] = v.observability.rank;
+    j["observability_states"] = v.observability.states;
+  } else {
+    j["observability_message"] = v.observability_status.message;
+  }
+  const estimate::RepeatabilityResult& rep = v.repeat;
+  if (!rep.keys.empty()) {
+    json rj;
+    rj["runs"] = rep.initial.rows();
+    rj["status"] = rep.summary.ok ? "ok" : "failed";
+    if (!rep.summary.ok) rj["message"] = rep.summary.message;
+    json mean = json::object(), sd = json::object(), lo = json::object(), hi = json::object(),
+         rel = json::object();
+    for (std::size_t k = 0; k < rep.keys.size(); ++k) {
+      const auto i = static_cast<Eigen::Index>(k);
+      if (rep.mean.size() <= i) break;
+      mean[rep.keys[k]] = number_or_null(rep.mean[i]);
+      sd[rep.keys[k]] = number_or_null(rep.std_dev[i]);
+      lo[rep.keys[k]] = number_or_null(rep.min[i]);
+      hi[rep.keys[k]] = number_or_null(rep.max[i]);
+      rel[rep.keys[k]] = number_or_null(100.0 * rep.std_dev[i] / std::abs(rep.mean[i]));
+    }
+    rj["mean"] = mean;
+    rj["std_dev"] = sd;
+    rj["min"] = lo;
+    rj["max"] = hi;
+    rj["std_dev_pct"] = rel;
+    j["repeatability"] = rj;
+  }
+  return j;
+}
+
+json estimation_json(const CutEstimation& e) {
+  json j;
+  j["window_s"] = {e.window.start_s, e.window.end_s};
+  j["window_depth_m"] = {e.window.depth_start_m, e.window.depth_end_m};
+  j["window_rule"] = e.window.rule;
+  j["resampled_samples"] = e.resampled_samples;
+  json passes = json::array();
+  for (const auto& p : e.passes) {
+    json pj = values_json(p.modal, p.coefficients);
+    pj["offset_used_deg"] = p.offset_deg;
+    pj["offset_found_deg"] = p.offset_after_deg;
+    pj["offset_relative_error"] = number_or_null(p.offset_relative_error);
+    passes.push_back(pj);
+  }
+  j["passes"] = passes;
+  j["converged"] = e.converged;
+  j["identified"] = identified_json(e);
+  j["runtime_s"] = e.runtime_s;
+  return j;
+}
+
+// A cut test (EXPERIMENT_FORMAT.md: offset_angle_deg; bifurcation_depth_mm null when the run
+// shows no bifurcation, absent when its depth does not vary). A step that did not succeed
+// leaves its keys out and says why.
+json cut_json(const CutOutcome& c) {
+  json j;
+  j["measured_rpm"] = number_or_null(c.tach.measured_rpm);
+  j["tach_revolutions"] = c.tach.revolutions;
+  j["air_revolutions"] = c.air_revolutions;
+  const bool identified = c.estimation.summary.ok;
+  if (c.offset_status.ok) {
+    const auto& s = c.offset.search;
+    // offset_angle_deg: found with the identified values when the identification ran, else
+    // with the hammer-test and dynamometer values (docs/identification.md).
+    j["offset_angle_deg"] =
+        identified ? c.estimation.offset.search.offset_angle_deg : s.offset_angle_deg;
+    j["offset_source"] = identified ? "identified" : "hammer-dyno";
+    j["offset_hammer_dyno_deg"] = s.offset_angle_deg;
+    j["offset_rms_error_m"] = s.rms_error_m;
+    j["offset_relative_error"] = number_or_null(c.offset.relative_error);
+    j["offset_runner_up_deg"] = number_or_null(s.runner_up_deg);
+    j["offset_runner_up_ratio"] = number_or_null(s.runner_up_ratio);
+    j["offset_ambiguous"] = s.ambiguous;
+    j["offset_comparison_depth_m"] = c.offset.depth_m;
+  } else {
+    j["offset_status"] = "skipped";
+    j["offset_skip_reason"] = c.offset_status.message;
+  }
+  if (c.ramped) {
+    if (c.bifurcation_status.ok) {
+      const auto& b = c.bifurcation;
+      j["bifurcation_depth_mm"] =
+          b.bifurcation_depth_m ? json(*b.bifurcation_depth_m * 1e3) : json(nullptr);
+      j["bifurcation_verdict"] = dynamics::to_string(b.verdict);
+      j["bifurcation_noise_floor_m"] = b.noise_floor_m;
+      json islands = json::array();
+      for (const auto& is : b.islands) {
+        islands.push_back(
+            {{"onset_depth_mm", is.onset_depth_m * 1e3}, {"end_depth_mm", is.end_depth_m * 1e3}});
+      }
+      j["chatter_islands"] = islands;
+    } else {
+      j["bifurcation_status"] = "skipped";
+      j["bifurcation_skip_reason"] = c.bifurcation_status.message;
+    }
+  }
+  json estimators = json::object();
+  if (identified) {
+    j["identification"] = estimation_json(c.estimation);
+    j["offset_identified_relative_error"] = number_or_null(c.estimation.offset.relative_error);
+    j["offset_identified_ambiguous"] = c.estimation.offset.search.ambiguous;
+    for (const auto& v : c.estimation.variants) estimators[v.run.estimator] = variant_json(v);
+    if (c.ramped) {
+      json sim = json::object();
+      for (const auto& s : c.estimation.simulated) {
+        if (s.status.ok) {
+          sim[s.chip_model] = {
+              {"bifurcation_depth_mm", s.depth_m ? json(*s.depth_m * 1e3) : json(nullptr)},
+              {"verdict", dynamics::to_string(s.verdict)},
+              {"steps", s.steps},
+              {"runtime_s", s.runtime_s}};
+        } else {
+          sim[s.chip_model] = {{"status", "failed"}, {"message", s.status.message}};
+        }
+      }
+      j["simulated_identified"] = sim;
+    }
+  } else if (c.estimation.summary.message != "not run") {
+    j["identification_status"] = "skipped";
+    j["identification_skip_reason"] = c.estimation.summary.message;
+  }
+  j["estimators"] = estimators;
+  return j;
+}
+
+}  // namespace
+
+json CutKind::results(const TestOutcome& t) const { return cut_json(*t.result_as<CutOutcome>()); }
+
+// The identification of one cut test (docs/identification.md, "Campaign values").
+void CutKind::campaign_results(const CampaignResults& r, json& root) const {
+  if (const TestOutcome* src = identification_source(r)) {
+    root["identified"] = identified_json(src->result_as<CutOutcome>()->estimation);
+    root["identified_from"] = src->spec->id;
+  } else {
+    root["identified"] = json::object();
+  }
+}
+
+}  // namespace chatterlab::app

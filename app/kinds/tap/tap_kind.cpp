@@ -1,0 +1,365 @@
+#include "app/kinds/tap/tap_kind.h"
+
+#include <cmath>
+#include <complex>
+
+#include "analysis/frf/mode.h"
+#include "app/core/format.h"
+#include "app/core/yaml_reader.h"
+#include "app/report/figure_jobs.h"
+#include "app/report/results_json.h"
+#include "app/report/truth.h"
+
+namespace chatterlab::app {
+
+using nlohmann::json;
+
+namespace {
+
+constexpr double kRadToDeg = 57.29577951308232;
+
+// Appends a phase sample, breaking the line (NaN) where it wraps between +180 and -180 deg
+// so that a wrap draws no vertical stroke across the panel.
+void push_phase(render::Series& s, double f, double deg) {
+  if (!s.y.empty() && std::isfinite(s.y.back()) && std::isfinite(deg) &&
+      std::abs(deg - s.y.back()) > 180.0) {
+    s.x.push_back(f);
+    s.y.push_back(std::nan(""));
+  }
+  s.x.push_back(f);
+  s.y.push_back(deg);
+}
+
+json tap_json(const TapOutcome& t) {
+  json j;
+  j["hits_used"] = t.hits_used;
+  json hits = json::array();
+  for (const auto& h : t.hits) {
+    json e = {{"time_s", h.time_s}, {"peak_force_N", h.peak_N}, {"accepted", h.accepted}};
+    if (!h.accepted) e["rejected_because"] = h.reason;
+    hits.push_back(e);
+  }
+  j["hits"] = hits;
+  j["frequency_resolution_hz"] = number_or_null(t.df_hz);
+  j["exp_window_tau_s"] = number_or_null(t.exp_window_tau_s);
+  if (t.fit_ok) {
+    json modes = json::array();
+    for (std::size_t i = 0; i < t.modes.size(); ++i) {
+      const auto& m = t.modes[i];
+      const auto& q = t.quality.at(i);
+      modes.push_back({{"fn_hz", m.fn_hz},
+                       {"zeta", m.zeta},
+                       {"m_kg", m.m_kg},
+                       {"c_kg_s", m.c_kg_s},
+                       {"k_N_m", m.k_N_m},
+                       {"half_power_bins", q.half_power_bins},
+                       {"resolution_limited", q.resolution_limited},
+                       {"negative_modal_constant", q.negative_constant},
+                       {"at_fit_bound", q.at_bound}});
+    }
+    j["modes"] = modes;
+    j["fit_nrmse_pct"] = number_or_null(t.fit_nrmse_pct);
+    j["fit_band_hz"] = {number_or_null(t.band_lo_hz), number_or_null(t.band_hi_hz)};
+  } else {
+    j["fit_status"] = "failed";
+    j["fit_message"] = t.fit_message;
+  }
+  return j;
+}
+
+json tap_context(const TestOutcome& t, const std::string& figure) {
+  const TapOutcome& tap = *t.result_as<TapOutcome>();
+  const TapSpec& spec = t.spec->kind_spec<TapSpec>();
+  json j;
+  j["id"] = t.spec->id;
+  j["axis"] = spec.axis;
+  j["response"] = spec.response;
+  j["hits_used"] = tap.hits_used;
+  j["hits_total"] = tap.hits.size();
+  j["df_hz"] = fmt_sig(tap.df_hz, 3);
+  if (std::isfinite(tap.exp_window_tau_s)) j["exp_tau_ms"] = fmt_sig(tap.exp_window_tau_s * 1e3, 3);
+  j["band_lo_hz"] = fmt_sig(tap.band_lo_hz, 4);
+  j["band_hi_hz"] = fmt_sig(tap.band_hi_hz, 4);
+  json rejected = json::array();
+  for (const auto& h : tap.hits) {
+    if (!h.accepted) rejected.push_back({{"t_s", fmt_fixed(h.time_s, 3)}, {"reason", h.reason}});
+  }
+  j["has_rejected"] = !rejected.empty();
+  j["rejected"] = rejected;
+  j["has_warnings"] = !t.warnings.empty();
+  j["warnings"] = t.warnings;
+  j["figure"] = figure;
+  j["fit_ok"] = tap.fit_ok;
+  j["fit_message"] = tap.fit_message;
+  j["fit_nrmse_pct"] = fmt_fixed(tap.fit_nrmse_pct, 1);
+  json modes = json::array();
+  int n = 0;
+  for (std::size_t i = 0; i < tap.modes.size(); ++i) {
+    const auto& m = tap.modes[i];
+    const auto& q = tap.quality.at(i);
+    std::string note;
+    if (q.resolution_limited) note = "\u03b6 from " + fmt_sig(q.half_power_bins, 2) + " bins";
+    if (q.negative_constant) note += std::string(note.empty() ? "" : "; ") + "A < 0";
+    if (q.at_bound) note += std::string(note.empty() ? "" : "; ") + "at fit bound";
+    modes.push_back({{"n", ++n},
+                     {"note", note},
+                     {"fn_hz", fmt_sig(m.fn_hz, 5)},
+                     {"zeta_pct", fmt_sig(100 * m.zeta, 3)},
+                     {"m_kg", fmt_sig(m.m_kg, 4)},
+                     {"c_kg_s", fmt_sig(m.c_kg_s, 4)},
+                     {"k_N_m", fmt_sig(m.k_N_m, 4)}});
+  }
+  j["modes"] = modes;
+  return j;
+}
+
+// The tool mode of a tap test: the fitted mode with the largest peak receptance 1/(c wn)
+// (the most flexible one, which dominates the cut's deflection).
+const frf::Mode* dominant_mode(const std::vector<frf::Mode>& modes) {
+  const frf::Mode* best = nullptr;
+  for (const auto& m : modes) {
+    const double peak = 1.0 / (m.c_kg_s * 2 * M_PI * m.fn_hz);
+    if (!best || peak > 1.0 / (best->c_kg_s * 2 * M_PI * best->fn_hz)) best = &m;
+  }
+  return best;
+}
+
+std::string hammer_value(const TestSpec& t) {
+  return t.kind_spec<TapSpec>().axis == "y" ? value::kHammerModeY : value::kHammerModeX;
+}
+
+}  // namespace
+
+std::vector<std::string> TapKind::keys() const {
+  return {"axis", "response", "hits", "band_hz", "modes"};
+}
+
+std::shared_ptr<const KindSpec> TapKind::parse(const YAML::Node& root, YamlReader& r) const {
+  auto spec = std::make_shared<TapSpec>();
+  TapSpec& s = *spec;
+  s.axis = r.required_string(root, "axis");
+  if (!s.axis.empty() && s.axis != "x" && s.axis != "y") {
+    r.error("axis", "must be x or y, got '" + s.axis + "'");
+  }
+  s.response = r.required_string(root, "response");
+  if (!s.response.empty() && s.response != "acceleration" && s.response != "velocity" &&
+      s.response != "displacement") {
+    r.error("response", "must be acceleration, velocity or displacement, got '" + s.response + "'");
+  }
+  const YAML::Node hits = root["hits"];
+  if (hits && hits.IsScalar() && hits.Scalar() != "auto") {
+    r.error("hits", "must be 'auto' or a list of [start_s, end_s], got '" + hits.Scalar() + "'");
+  } else if (hits && hits.IsSequence()) {
+    s.hits_auto = false;
+    for (const auto& h : hits) {
+      if (!h.IsSequence() || h.size() != 2) {
+        r.error("hits", "each hit must be a list [start_s, end_s]");
+        break;
+      }
+      try {
+        const double a = h[0].as<double>(), b = h[1].as<double>();
+        if (!(b > a)) r.error("hits", "each hit window needs end_s > start_s");
+        s.hit_windows_s.emplace_back(a, b);
+      } catch (const YAML::Exception&) {
+        r.error("hits", "each hit must be a list of two numbers [start_s, end_s]");
+        break;
+      }
+    }
+  } else if (hits && !hits.IsScalar()) {
+    r.error("hits", "must be 'auto' or a list of [start_s, end_s]");
+  }
+  s.band_hz = r.optional_pair(root, "band_hz");
+  if (s.band_hz && !(s.band_hz->second > s.band_hz->first && s.band_hz->first >= 0)) {
+    r.error("band_hz", "must be [low, high] with 0 <= low < high");
+  }
+  const YAML::Node modes = root["modes"];
+  if (modes && !(modes.IsScalar() && modes.Scalar() == "auto")) {
+    try {
+      s.modes = modes.as<int>();
+      if (s.modes < 1 || s.modes > 20) r.error("modes", "must be 'auto' or a number from 1 to 20");
+    } catch (const YAML::Exception&) {
+      r.error("modes", "must be 'auto' or a whole number of modes");
+    }
+  }
+  return spec;
+}
+
+std::vector<std::string> TapKind::provides(const TestSpec& t) const { return {hammer_value(t)}; }
+
+void TapKind::run(const TestSpec& t, const CampaignValues&, const RunContext&,
+                  TestOutcome& out) const {
+  auto tap = std::make_unique<TapOutcome>(run_tap_test(t, options_));
+  out.warnings.insert(out.warnings.end(), tap->warnings.begin(), tap->warnings.end());
+  if (tap->summary.ok) {
+    out.status.succeed();
+  } else {
+    out.status.fail(tap->summary.message);
+  }
+  out.result = std::move(tap);
+}
+
+void TapKind::publish(const TestOutcome& out, CampaignValues& values) const {
+  const TapOutcome& tap = *out.result_as<TapOutcome>();
+  const std::string id = out.spec->id;
+  const frf::Mode* m = tap.fit_ok ? dominant_mode(tap.modes) : nullptr;
+  if (m) {
+    values.put(hammer_value(*out.spec), id, *m);
+  } else {
+    values.fail(hammer_value(*out.spec), id, "its modal fit failed: " + tap.fit_message);
+  }
+}
+
+json TapKind::results(const TestOutcome& out) const {
+  return tap_json(*out.result_as<TapOutcome>());
+}
+
+json TapKind::settings(const CampaignSpec&) const {
+  const auto& h = options_.hits;
+  const auto& f = options_.frf;
+  const auto& m = options_.fit;
+  return {{"hits",
+           {{"threshold_fraction", h.threshold_fraction},
+            {"noise_multiple", h.noise_multiple},
+            {"pretrigger_s", h.pretrigger_s},
+            {"double_hit_window_s", h.double_hit_window_s},
+            {"max_record_s", h.max_record_s},
+            {"min_record_fraction", h.min_record_fraction},
+            {"clip_min_samples", h.clip_min_samples},
+            {"clip_tolerance", h.clip_tolerance}}},
+          {"frf",
+           {{"force_window_margin", f.force_window_margin},
+            {"exp_window_auto", f.exp_window_auto},
+            {"exp_window_tau_s", f.exp_window_tau_s},
+            {"exp_window_end_fraction", f.exp_window_end_fraction},
+            {"decay_segment_fraction", f.decay_segment_fraction}}},
+          {"fit",
+           {{"estimator", m.estimator == frf::FrfEstimator::kH1 ? "H1" : "H2"},
+            {"residual_terms", m.residual_terms},
+            {"min_frequency_hz", m.min_frequency_hz},
+            {"min_coherence", m.min_coherence},
+            {"min_prominence_db", m.min_prominence_db},
+            {"band_dominance_db", m.band_dominance_db},
+            {"mode_floor_db", m.mode_floor_db},
+            {"max_modes", m.max_modes},
+            {"resolution_warning_bins", m.resolution_warning_bins},
+            {"max_iterations", m.max_iterations}}}};
+}
+
+std::string TapKind::note(const TestOutcome& out) const {
+  const TapOutcome& tap = *out.result_as<TapOutcome>();
+  if (!tap.fit_ok) return "FRF only; fit failed";
+  return std::to_string(tap.modes.size()) + " mode(s), first at " +
+         fmt_sig(tap.modes.front().fn_hz, 4) + " Hz";
+}
+
+void TapKind::figures(const CampaignResults&, const TestOutcome& out, FigureJobs& jobs) const {
+  const TapOutcome& tap = *out.result_as<TapOutcome>();
+  if (tap.f_hz.size() < 2) return;
+  const std::string stem = figure_stem("tap", out.spec->id);
+  jobs.add(out.spec->id, "frf", stem + "frf", tap_frf_figure(tap));
+}
+
+json TapKind::report_section(const CampaignResults&, const std::vector<const TestOutcome*>& ok,
+                             const FigureSet& figures) const {
+  if (ok.empty()) return nullptr;
+  json tests = json::array();
+  for (const TestOutcome* t : ok) tests.push_back(tap_context(*t, figures.of(t->spec->id, "frf")));
+  return {{"toc", json::array({{{"anchor", "tap"}, {"title", "Tap tests"}}})},
+          {"tap_tests", tests}};
+}
+
+// Tap test: the truth's modes matched to the fitted mode nearest in frequency.
+void TapKind::compare_truth(const TruthInput& in, const TestOutcome& out,
+                            TruthComparison& c) const {
+  const TapOutcome& tap = *out.result_as<TapOutcome>();
+  const YAML::Node& v = *in.entry;
+  if (!tap.fit_ok || !v["modes"]) return;
+  const std::string key = out.spec->id;
+  int i = 0;
+  for (const auto& m : v["modes"]) {
+    ++i;
+    const double fn = truth_number(m, "fn_hz");
+    const frf::Mode* best = nullptr;
+    for (const auto& fm : tap.modes) {
+      if (!best || std::abs(fm.fn_hz - fn) < std::abs(best->fn_hz - fn)) best = &fm;
+    }
+    if (!best || std::abs(best->fn_hz - fn) > 0.1 * fn) continue;  // mode not found
+    const std::string p = "mode" + std::to_string(i) + ".";
+    add_truth_row(c, p + "fn_hz", key, fn, best->fn_hz);
+    add_truth_row(c, p + "zeta", key, truth_number(m, "zeta"), best->zeta);
+    add_truth_row(c, p + "m_kg", key, truth_number(m, "m_kg"), best->m_kg);
+    add_truth_row(c, p + "c_kg_s", key, truth_number(m, "c_kg_s"), best->c_kg_s);
+    add_truth_row(c, p + "k_N_m", key, truth_number(m, "k_N_m"), best->k_N_m);
+  }
+}
+
+render::Figure tap_frf_figure(const TapOutcome& tap) {
+  // Shown range: around the fit band (or the whole FRF when no fit), within the FRF's range.
+  double lo = tap.f_hz.size() ? tap.f_hz[0] : 1.0;
+  double hi = tap.f_hz.size() ? tap.f_hz[tap.f_hz.size() - 1] : 2.0;
+  if (std::isfinite(tap.band_lo_hz) && std::isfinite(tap.band_hi_hz)) {
+    lo = std::max(lo, tap.band_lo_hz / 1.5);
+    hi = std::min(hi, tap.band_hi_hz * 1.5);
+  }
+  render::Series mag1, mag2, fit_mag, ph1, fit_ph, coh;
+  mag1.label = "H1";
+  mag2.label = "H2";
+  mag2.style = render::SeriesStyle::kDashedLine;
+  fit_mag.label = "fit";
+  fit_mag.style = render::SeriesStyle::kDashedLine;
+  ph1.label = "H1";
+  fit_ph.label = "fit";
+  fit_ph.style = render::SeriesStyle::kDashedLine;
+  coh.label = "coherence";
+  for (Eigen::Index i = 0; i < tap.f_hz.size(); ++i) {
+    const double f = tap.f_hz[i];
+    if (f < lo || f > hi) continue;
+    mag1.x.push_back(f);
+    mag1.y.push_back(std::abs(tap.h1[i]));
+    mag2.x.push_back(f);
+    mag2.y.push_back(std::abs(tap.h2[i]));
+    push_phase(ph1, f, std::arg(tap.h1[i]) * kRadToDeg);
+    coh.x.push_back(f);
+    coh.y.push_back(tap.coherence[i]);
+    if (tap.fit_ok && tap.fitted.size() == tap.f_hz.size()) {
+      const bool in_band = f >= tap.band_lo_hz && f <= tap.band_hi_hz;
+      fit_mag.x.push_back(f);
+      fit_mag.y.push_back(in_band ? std::abs(tap.fitted[i]) : std::nan(""));
+      push_phase(fit_ph, f, in_band ? std::arg(tap.fitted[i]) * kRadToDeg : std::nan(""));
+    }
+  }
+  mag1.color = ph1.color = "#0072B2";
+  mag2.color = "#56B4E9";
+  fit_mag.color = fit_ph.color = "#D55E00";
+  coh.color = "#009E73";
+  render::Figure fig;
+  fig.share_x = true;
+  fig.height_in = 5.4;
+  render::Axes& a = fig.panels.emplace_back();
+  a.y_label = "|receptance| [m/N]";
+  a.log_x = a.log_y = true;
+  a.relative_height = 2.2;
+  a.series = {mag1, mag2};
+  if (!fit_mag.x.empty()) a.series.push_back(fit_mag);
+  render::Axes& p = fig.panels.emplace_back();
+  p.y_label = "phase [deg]";
+  p.log_x = true;
+  p.y_range = render::Range{-180, 180};
+  p.relative_height = 1.2;
+  p.series = {ph1};
+  if (!fit_ph.x.empty()) p.series.push_back(fit_ph);
+  p.legend = render::LegendPosition::kNone;
+  render::Axes& c = fig.panels.emplace_back();
+  c.x_label = "frequency [Hz]";
+  c.y_label = "coherence [-]";
+  c.log_x = true;
+  c.y_range = render::Range{0, 1.05};
+  c.relative_height = 1.0;
+  c.series = {coh};
+  c.legend = render::LegendPosition::kNone;
+  // Not through a, p, c: emplace_back may have moved the earlier panels.
+  for (auto& ax : fig.panels) ax.x_range = render::Range{lo, hi};
+  return fig;
+}
+
+}  // namespace chatterlab::app

@@ -1,0 +1,42 @@
+// Kind `tap`: impact-hammer tap tests (docs/tap-tests.md). Provides the hammer-test mode of its
+// axis (the fitted mode of largest peak receptance) to the cut tests.
+#pragma once
+
+#include "app/kinds/tap/tap_step.h"
+#include "app/pipeline/kind.h"
+#include "render/figure.h"
+
+namespace chatterlab::app {
+
+class TapKind : public TestKind {
+ public:
+  explicit TapKind(TapStepOptions options = {}) : options_(std::move(options)) {}
+
+  std::string name() const override { return "tap"; }
+  std::vector<std::string> keys() const override;
+  std::shared_ptr<const KindSpec> parse(const YAML::Node& root, YamlReader& r) const override;
+  std::vector<std::string> required_channels(const TestSpec&) const override {
+    return {"force", "response"};
+  }
+  std::vector<std::string> provides(const TestSpec& t) const override;
+  void run(const TestSpec& t, const CampaignValues& in, const RunContext& ctx,
+           TestOutcome& out) const override;
+  void publish(const TestOutcome& out, CampaignValues& values) const override;
+  nlohmann::json results(const TestOutcome& out) const override;
+  nlohmann::json settings(const CampaignSpec&) const override;
+  std::string note(const TestOutcome& out) const override;
+  void figures(const CampaignResults&, const TestOutcome& out, FigureJobs& jobs) const override;
+  nlohmann::json report_section(const CampaignResults& r,
+                                const std::vector<const TestOutcome*>& ok_tests,
+                                const FigureSet& figures) const override;
+  void compare_truth(const TruthInput& in, const TestOutcome& out,
+                     TruthComparison& c) const override;
+
+ private:
+  TapStepOptions options_;
+};
+
+// The FRF figure of a tap test: |H1|, |H2| and the fit, phase, coherence (exposed for tests).
+render::Figure tap_frf_figure(const TapOutcome& tap);
+
+}  // namespace chatterlab::app

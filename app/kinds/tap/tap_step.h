@@ -1,0 +1,73 @@
+// The tap-test step: hits -> H1/H2 + coherence -> modal fit (DESIGN.md data flow), with the
+// result copied into plain data for results.json and the report.
+#pragma once
+
+#include <Eigen/Core>
+#include <limits>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "analysis/common/summary.h"
+#include "analysis/frf/frf.h"
+#include "analysis/frf/hits.h"
+#include "analysis/frf/modal_fit.h"
+#include "analysis/frf/mode.h"
+#include "app/core/campaign.h"
+#include "app/pipeline/outcome.h"
+
+namespace chatterlab::app {
+
+// Analysis defaults of every tap test (docs/tap-tests.md); a test's band_hz and modes keys
+// override fit.band_hz and fit.n_modes for that test.
+struct TapStepOptions {
+  frf::HitOptions hits;
+  frf::FrfOptions frf;
+  frf::ModalFitOptions fit;
+};
+
+// test.yaml keys of a tap test (docs/formats.md).
+struct TapSpec : KindSpec {
+  std::string axis;      // "x" or "y"
+  std::string response;  // acceleration | velocity | displacement
+  bool hits_auto = true;
+  std::vector<std::pair<double, double>> hit_windows_s;
+  std::optional<std::pair<double, double>> band_hz;
+  int modes = 0;  // 0: automatic
+};
+
+struct TapHitInfo {
+  double time_s = 0;  // start of the hit's pulse
+  double peak_N = 0;
+  bool accepted = false;
+  std::string reason;  // why it was rejected
+};
+
+struct TapOutcome : KindResult {
+  StepSummary summary;  // ok when the FRF exists (the fit may still have failed: fit_ok)
+  std::vector<std::string> warnings;
+  std::vector<TapHitInfo> hits;
+  int hits_used = 0;
+  Eigen::VectorXd f_hz;
+  Eigen::VectorXcd h1, h2;  // receptance, m/N
+  Eigen::VectorXd coherence;
+  double df_hz = std::numeric_limits<double>::quiet_NaN();
+  double exp_window_tau_s = std::numeric_limits<double>::quiet_NaN();  // NaN: none applied
+  bool fit_ok = false;
+  std::string fit_message = "not run";
+  std::vector<frf::Mode> modes;           // sorted by frequency; empty unless fit_ok
+  std::vector<frf::ModeQuality> quality;  // one per mode
+  double fit_nrmse_pct = std::numeric_limits<double>::quiet_NaN();
+  double band_lo_hz = std::numeric_limits<double>::quiet_NaN();
+  double band_hi_hz = std::numeric_limits<double>::quiet_NaN();
+  Eigen::VectorXcd fitted;  // model receptance on f_hz (empty unless fit_ok)
+};
+
+// test.yaml's `response` (acceleration | velocity | displacement, validated by the loader).
+frf::ResponseKind response_kind_of(const std::string& response);
+
+// Runs the step on one tap test. Bad input throws InputError (the caller skips the test).
+TapOutcome run_tap_test(const TestSpec& t, const TapStepOptions& options);
+
+}  // namespace chatterlab::app

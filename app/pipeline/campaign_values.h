@@ -1,0 +1,84 @@
+// Values that tests and group products provide to others, by name: the hammer-test mode of each
+// axis, the dynamometer cutting coefficients, a dynamometer or spindle FRF model, a sensor
+// calibration, identified values. A value may have several providers (two tap tests of one
+// axis); readers take them in provider order (test id order), so results do not depend on
+// which thread finished first. A provider whose step failed is recorded too, so a consumer
+// can say why the value is missing.
+#pragma once
+
+#include <any>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace chatterlab::app {
+
+// Value names used by the built-in kinds.
+namespace value {
+inline const std::string kHammerModeX = "hammer-mode/x";  // frf::Mode, tap tests of axis x
+inline const std::string kHammerModeY = "hammer-mode/y";
+inline const std::string kDynoSlotRecord = "dyno-slot/record";           // DynoRecordValue
+inline const std::string kCuttingCoefficients = "cutting-coefficients";  // dyno-slot group
+// "hammer-mode/x" -> "the hammer-test mode of x" (for messages).
+std::string describe(const std::string& name);
+}  // namespace value
+
+class CampaignValues {
+ public:
+  struct Entry {
+    std::string provider;  // test id or "group:<name>"
+    bool ok = false;
+    std::string why;  // the provider's failure when !ok
+    std::any value;
+  };
+
+  // Thread-safe: providers of one level of the campaign publish concurrently.
+  template <class T>
+  void put(const std::string& name, const std::string& provider, T v) {
+    std::lock_guard<std::mutex> lock(*mutex_);
+    insert(name, Entry{provider, true, "", std::any(std::move(v))});
+  }
+  void fail(const std::string& name, const std::string& provider, const std::string& why) {
+    std::lock_guard<std::mutex> lock(*mutex_);
+    insert(name, Entry{provider, false, why, {}});
+  }
+
+  // The first provider's value (by provider id), nullptr when no provider succeeded.
+  template <class T>
+  const T* first(const std::string& name, std::string* provider = nullptr) const {
+    const auto it = entries_.find(name);
+    if (it == entries_.end()) return nullptr;
+    for (const auto& e : it->second) {
+      if (!e.ok) continue;
+      if (provider) *provider = e.provider;
+      return std::any_cast<T>(&e.value);
+    }
+    return nullptr;
+  }
+  // Every provider's value in provider order, with the provider ids.
+  template <class T>
+  std::vector<std::pair<std::string, const T*>> all(const std::string& name) const {
+    std::vector<std::pair<std::string, const T*>> out;
+    const auto it = entries_.find(name);
+    if (it == entries_.end()) return out;
+    for (const auto& e : it->second) {
+      if (e.ok) out.emplace_back(e.provider, std::any_cast<T>(&e.value));
+    }
+    return out;
+  }
+  // Whether `provider` recorded `name` (a value or a failure).
+  bool has_entry(const std::string& name, const std::string& provider) const;
+  // Why `name` has no value: "needs <description> from <provider>, which was skipped: <why>"
+  // for the first failed provider, or "needs <description>, which no test of the campaign
+  // provides". Empty when a provider succeeded.
+  std::string why_missing(const std::string& name) const;
+
+ private:
+  void insert(const std::string& name, Entry e);
+  std::map<std::string, std::vector<Entry>> entries_;
+  std::unique_ptr<std::mutex> mutex_ = std::make_unique<std::mutex>();  // movable values
+};
+
+}  // namespace chatterlab::app

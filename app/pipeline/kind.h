@@ -1,0 +1,150 @@
+// A test kind as a module (docs/architecture.md, "Adding a test kind"). A kind owns its
+// test.yaml keys and parser, the channels its record needs, what it needs from the other tests
+// of the campaign and what it provides to them, its step, its results.json block, its report
+// section (templates/kinds/<name>.html), its figures and its truth comparison. A group product
+// (the dyno-slot line fit over every dyno-slot test, later the stability lobes) is the same
+// idea over a set of tests: it needs values the tests provide and provides values of its own.
+//
+// The pipeline (app/pipeline/pipeline.h) orders the campaign's tests and group products by
+// what they need and provide, runs independent ones in parallel and skips, with the reason, a
+// consumer whose required input failed.
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "app/core/campaign.h"
+#include "app/pipeline/campaign_values.h"
+#include "app/pipeline/outcome.h"
+
+namespace chatterlab::app {
+
+class YamlReader;
+class FigureJobs;
+struct FigureSet;
+struct CampaignResults;
+struct TruthComparison;
+
+// A value a test or group needs, by its name in CampaignValues (campaign_values.h).
+// required: without it the consumer is skipped ("needs the ... from ..., which was skipped:
+// ..."); optional: the consumer runs and the step that needed it says why it did not run.
+struct Need {
+  std::string value;
+  bool required = false;
+};
+
+// What a step may use while it runs.
+struct RunContext {
+  const CampaignSpec* campaign = nullptr;
+  int jobs = 1;  // threads the step may use inside itself
+};
+
+// Where a kind's truth comparison reads from: truth.yaml's entry for the test (its `tests:` key
+// equal to the test id) and the whole file (for campaign-wide blocks such as `modal`).
+struct TruthInput {
+  const YAML::Node* root = nullptr;
+  const YAML::Node* entry = nullptr;
+  const CampaignResults* results = nullptr;
+};
+
+class TestKind {
+ public:
+  virtual ~TestKind() = default;
+
+  // The test.yaml `kind` value ("tap").
+  virtual std::string name() const = 0;
+
+  // test.yaml keys of this kind beyond the common ones (kind, sample_rate_hz, data, channels,
+  // reference), for the unknown-key check.
+  virtual std::vector<std::string> keys() const = 0;
+  // Parses those keys; every problem goes to `r` (the test becomes unusable on an error).
+  virtual std::shared_ptr<const KindSpec> parse(const YAML::Node& root, YamlReader& r) const = 0;
+  // campaign.yaml blocks this kind owns (the cut kind's `estimation:`).
+  virtual std::vector<std::string> campaign_blocks() const { return {}; }
+  // Parses one of them; an absent block arrives as a null node (the defaults). Problems go to
+  // `r`: they do not stop the campaign; the kind's steps that use the block fail with them and
+  // `validate` reports them.
+  virtual std::shared_ptr<const KindSpec> parse_campaign_block(const std::string& /*key*/,
+                                                               const YAML::Node& /*block*/,
+                                                               YamlReader& /*r*/) const {
+    return nullptr;
+  }
+  // Campaign-wide requirements checked after loading (a cut needs campaign.yaml's tool):
+  // returns the problems, each naming the file and key.
+  virtual std::vector<std::string> check_campaign(const CampaignSpec&, const TestSpec&) const {
+    return {};
+  }
+  // Channels the record must hold.
+  virtual std::vector<std::string> required_channels(const TestSpec&) const = 0;
+  // Checks of the record against the test.yaml once its length is known (a window inside it).
+  virtual std::vector<std::string> check_record(const TestSpec&, double /*duration_s*/) const {
+    return {};
+  }
+
+  virtual std::vector<Need> needs(const TestSpec&) const { return {}; }
+  virtual std::vector<std::string> provides(const TestSpec&) const { return {}; }
+
+  // The step. Bad input throws InputError (the test is skipped with the message); any other
+  // exception is an internal error. Sets out.status and out.result; a failed step leaves
+  // out.status failed with its message.
+  virtual void run(const TestSpec&, const CampaignValues& in, const RunContext&,
+                   TestOutcome& out) const = 0;
+  // Puts what the test provides into `values` (called only when the step succeeded).
+  virtual void publish(const TestOutcome&, CampaignValues&) const {}
+
+  // results.json: keys merged into the test's entry (only for a test whose step succeeded).
+  virtual nlohmann::json results(const TestOutcome&) const { return nlohmann::json::object(); }
+  // Keys at the top level of results.json (the cut kind's `identified`), from every test.
+  virtual void campaign_results(const CampaignResults&, nlohmann::json&) const {}
+  // The settings this kind's steps used, for results.json `settings` and the report.
+  virtual nlohmann::json settings(const CampaignSpec&) const { return nlohmann::json::object(); }
+
+  // A line for the report's table of tests.
+  virtual std::string note(const TestOutcome&) const { return ""; }
+  // Figures of one test whose step succeeded.
+  virtual void figures(const CampaignResults&, const TestOutcome&, FigureJobs&) const {}
+  // The report section: the context of templates/kinds/<name>.html for the tests of this kind
+  // whose step succeeded (null: no section).
+  virtual nlohmann::json report_section(const CampaignResults&,
+                                        const std::vector<const TestOutcome*>& ok_tests,
+                                        const FigureSet&) const {
+    (void)ok_tests;
+    return nullptr;
+  }
+  // Comparison with truth.yaml (a synthetic campaign's known values).
+  virtual void compare_truth(const TruthInput&, const TestOutcome&, TruthComparison&) const {}
+};
+
+class GroupProduct {
+ public:
+  virtual ~GroupProduct() = default;
+
+  // Its key under results.json `groups` and its report template (templates/kinds/<name>.html).
+  virtual std::string name() const = 0;
+  // Whether the campaign has this product (the dyno-slot fit: any dyno-slot test).
+  virtual bool applies(const CampaignSpec&) const = 0;
+  virtual std::vector<Need> needs(const CampaignSpec&) const = 0;
+  virtual std::vector<std::string> provides(const CampaignSpec&) const = 0;
+
+  // Sets out.status, out.result and out.members. Same error rules as TestKind::run.
+  virtual void run(const CampaignValues& in, const RunContext&, GroupOutcome& out) const = 0;
+  virtual void publish(const GroupOutcome&, CampaignValues&) const {}
+
+  // results.json `groups.<name>` (for any status: a failed product says why).
+  virtual nlohmann::json results(const GroupOutcome&) const = 0;
+  virtual nlohmann::json settings(const CampaignSpec&) const { return nlohmann::json::object(); }
+  virtual void figures(const CampaignResults&, const GroupOutcome&, FigureJobs&) const {}
+  virtual nlohmann::json report_section(const CampaignResults&, const GroupOutcome&,
+                                        const FigureSet&) const {
+    return nullptr;
+  }
+  // truth.yaml `tests:` entry `key` (a group is matched by its members' common prefix).
+  virtual void compare_truth(const TruthInput&, const std::string& /*key*/, const GroupOutcome&,
+                             TruthComparison&) const {}
+};
+
+}  // namespace chatterlab::app

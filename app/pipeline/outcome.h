@@ -1,0 +1,52 @@
+// What running one test or one group product leaves: its status, its warnings and the kind's
+// own result (KindResult), which only the kind reads.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "analysis/common/summary.h"
+#include "app/core/campaign.h"
+
+namespace chatterlab::app {
+
+// The result of a kind's step; each kind derives its own (TapResult, CutOutcome, ...).
+struct KindResult {
+  virtual ~KindResult() = default;
+};
+
+// Why a test or group did not succeed. Input: bad input or a missing input (the test is
+// skipped with the reason); internal: an exception that is not an InputError, a broken
+// invariant (the report and the exit code say so distinctly).
+enum class Failure { kNone, kInput, kInternal };
+
+struct TestOutcome {
+  const TestSpec* spec = nullptr;  // points into CampaignResults::campaign.tests
+  StepSummary status;              // not run, ok, or failed with its message
+  Failure failure = Failure::kNone;
+  std::vector<std::string> warnings;
+  double runtime_s = 0;
+  std::unique_ptr<KindResult> result;  // the kind's result; read only when status is ok
+
+  template <class T>
+  const T* result_as() const {
+    return dynamic_cast<const T*>(result.get());
+  }
+};
+
+struct GroupOutcome {
+  std::string name;  // GroupProduct::name()
+  StepSummary status;
+  Failure failure = Failure::kNone;
+  std::vector<std::string> members;  // test ids whose values it used
+  double runtime_s = 0;
+  std::unique_ptr<KindResult> result;
+
+  template <class T>
+  const T* result_as() const {
+    return dynamic_cast<const T*>(result.get());
+  }
+};
+
+}  // namespace chatterlab::app

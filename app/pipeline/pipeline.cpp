@@ -1,0 +1,280 @@
+#include "app/pipeline/pipeline.h"
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+#include <map>
+#include <stdexcept>
+#include <thread>
+
+#include "app/core/hashing.h"
+#include "app/core/parallel.h"
+#include "app/core/signals.h"
+
+namespace chatterlab::app {
+namespace {
+
+constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// One test or group product of the campaign's graph.
+struct Node {
+  std::string name;  // test id ("." for the root) or "group:<name>"
+  std::size_t test = kNone;
+  const TestKind* kind = nullptr;
+  const GroupProduct* group = nullptr;
+  std::vector<Need> needs;
+  std::vector<std::string> provides;
+  int level = 0;
+};
+
+std::string node_name(const TestSpec& t) { return t.id.empty() ? "." : t.id; }
+
+std::vector<Node> build_graph(const CampaignSpec& c, const KindRegistry& kinds) {
+  std::vector<Node> nodes;
+  for (std::size_t i = 0; i < c.tests.size(); ++i) {
+    const TestSpec& t = c.tests[i];
+    const TestKind* kind = kinds.find(t.kind);
+    if (!t.usable() || !kind) continue;
+    nodes.push_back({node_name(t), i, kind, nullptr, kind->needs(t), kind->provides(t), 0});
+  }
+  for (const auto& g : kinds.groups()) {
+    if (!g->applies(c)) continue;
+    nodes.push_back(
+        {"group:" + g->name(), kNone, nullptr, g.get(), g->needs(c), g->provides(c), 0});
+  }
+  // Level = 1 + the deepest provider's level: repeated relaxation over a small graph; a level
+  // beyond the node count means a cycle, which the registry's kinds must never form.
+  std::multimap<std::string, std::size_t> providers;
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    for (const auto& v : nodes[i].provides) providers.emplace(v, i);
+  }
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (auto& n : nodes) {
+      for (const auto& need : n.needs) {
+        const auto [lo, hi] = providers.equal_range(need.value);
+        for (auto it = lo; it != hi; ++it) {
+          const int want = nodes[it->second].level + 1;
+          if (n.level < want) {
+            n.level = want;
+            changed = true;
+          }
+        }
+      }
+      if (n.level > static_cast<int>(nodes.size())) {
+        throw std::logic_error("pipeline: the kinds' needs and provides form a cycle at " + n.name);
+      }
+    }
+  }
+  return nodes;
+}
+
+// Runs `step`, turning exceptions into the outcome's status: InputError is bad input (skipped
+// with its message), anything else an internal error.
+template <class Outcome, class Step>
+void guarded(Outcome& out, Step&& step) {
+  try {
+    step();
+  } catch (const InputError& e) {
+    out.status.fail(e.what());
+    out.failure = Failure::kInput;
+  } catch (const std::exception& e) {
+    out.status.fail(std::string("internal error: ") + e.what());
+    out.failure = Failure::kInternal;
+  }
+  if (!out.status.ok && out.failure == Failure::kNone) out.failure = Failure::kInput;
+}
+
+// The first required value that is missing, as the skip reason; empty when all are there.
+std::string missing_input(const std::vector<Need>& needs, const CampaignValues& values) {
+  for (const auto& n : needs) {
+    if (!n.required) continue;
+    const std::string why = values.why_missing(n.value);
+    if (!why.empty()) return why;
+  }
+  return "";
+}
+
+// Every value a node declared but did not publish is recorded as failed with the reason, so
+// that its consumers can say why it is missing.
+void record_unprovided(const Node& n, const StepSummary& status, CampaignValues& values) {
+  for (const auto& v : n.provides) {
+    if (values.has_entry(v, n.name)) continue;
+    values.fail(v, n.name, status.ok ? "it gave no value" : status.message);
+  }
+}
+
+void run_test_node(const Node& n, CampaignResults& r, int inner_jobs) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const TestSpec& spec = r.campaign.tests[n.test];
+  TestOutcome& out = r.tests[n.test];
+  const std::string missing = missing_input(n.needs, r.values);
+  if (!missing.empty()) {
+    out.status.fail(missing);
+    out.failure = Failure::kInput;
+  } else {
+    const RunContext ctx{&r.campaign, inner_jobs};
+    guarded(out, [&] { n.kind->run(spec, r.values, ctx, out); });
+  }
+  if (out.status.ok) {
+    guarded(out, [&] { n.kind->publish(out, r.values); });
+  }
+  record_unprovided(n, out.status, r.values);
+  out.runtime_s = seconds_since(t0);
+}
+
+void run_group_node(const Node& n, GroupOutcome& out, CampaignResults& r, int inner_jobs) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::string missing = missing_input(n.needs, r.values);
+  if (!missing.empty()) {
+    out.status.fail(missing);
+    out.failure = Failure::kInput;
+  } else {
+    const RunContext ctx{&r.campaign, inner_jobs};
+    guarded(out, [&] { n.group->run(r.values, ctx, out); });
+  }
+  if (out.status.ok) guarded(out, [&] { n.group->publish(out, r.values); });
+  record_unprovided(n, out.status, r.values);
+  out.runtime_s = seconds_since(t0);
+}
+
+void add_inputs(CampaignResults& r) {
+  auto add_input = [&](const fs::path& p) {
+    if (!fs::exists(p)) return;
+    InputFile f;
+    f.relative_path = fs::relative(p, r.campaign.root).generic_string();
+    f.bytes = fs::file_size(p);
+    f.sha256 = sha256_file(p);
+    r.inputs.push_back(std::move(f));
+  };
+  add_input(r.campaign.root / "campaign.yaml");
+  if (r.campaign.has_truth) add_input(r.campaign.truth_file);
+  for (const auto& t : r.campaign.tests) {
+    add_input(t.folder / "test.yaml");
+    if (!t.data.file.empty()) add_input(t.data.file);
+  }
+}
+
+}  // namespace
+
+const GroupOutcome* CampaignResults::group(const std::string& name) const {
+  for (const auto& g : groups) {
+    if (g.name == name) return &g;
+  }
+  return nullptr;
+}
+
+int CampaignResults::internal_errors() const {
+  int n = 0;
+  for (const auto& t : tests) n += t.failure == Failure::kInternal;
+  for (const auto& g : groups) n += g.failure == Failure::kInternal;
+  return n;
+}
+
+std::vector<std::vector<std::string>> schedule(const CampaignSpec& campaign,
+                                               const KindRegistry& kinds) {
+  const std::vector<Node> nodes = build_graph(campaign, kinds);
+  std::vector<std::vector<std::string>> levels;
+  for (const auto& n : nodes) {
+    if (levels.size() <= static_cast<std::size_t>(n.level)) levels.resize(n.level + 1);
+    levels[n.level].push_back(n.name);
+  }
+  return levels;
+}
+
+CampaignResults run_campaign(CampaignSpec campaign, const PipelineOptions& options,
+                             const KindRegistry& kinds) {
+  const auto t0 = std::chrono::steady_clock::now();
+  CampaignResults r;
+  r.campaign = std::move(campaign);
+  r.kinds = &kinds;
+  r.options = options;
+  for (auto& t : r.campaign.tests) check_signals(t, kinds);
+  r.tests.resize(r.campaign.tests.size());
+  for (std::size_t i = 0; i < r.tests.size(); ++i) {
+    const TestSpec& t = r.campaign.tests[i];
+    TestOutcome& out = r.tests[i];
+    out.spec = &t;
+    out.warnings = t.warnings;
+    if (!t.usable()) {
+      std::string why;
+      for (const auto& e : t.errors) why += (why.empty() ? "" : "; ") + e;
+      out.status.fail(why);
+      out.failure = Failure::kInput;
+      if (const TestKind* kind = kinds.find(t.kind)) {
+        for (const auto& v : kind->provides(t)) r.values.fail(v, node_name(t), why);
+      }
+    }
+  }
+
+  std::vector<Node> nodes;
+  try {
+    nodes = build_graph(r.campaign, kinds);
+  } catch (const std::logic_error& e) {
+    for (auto& out : r.tests) {
+      if (out.status.ok || out.failure != Failure::kNone) continue;
+      out.status.fail(std::string("internal error: ") + e.what());
+      out.failure = Failure::kInternal;
+    }
+  }
+  for (const auto& n : nodes) {
+    if (n.group) r.groups.push_back(GroupOutcome{n.group->name(), {}, Failure::kNone, {}, 0, {}});
+  }
+  int depth = 0;
+  for (const auto& n : nodes) depth = std::max(depth, n.level + 1);
+  r.levels.resize(static_cast<std::size_t>(depth));
+  const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = options.jobs > 0 ? options.jobs : hw;
+  for (int level = 0; level < depth; ++level) {
+    std::vector<const Node*> now;
+    for (const auto& n : nodes) {
+      if (n.level == level) now.push_back(&n);
+    }
+    for (const Node* n : now) r.levels[static_cast<std::size_t>(level)].push_back(n->name);
+    // The threads left over when a level has fewer nodes than threads go to the nodes' own
+    // inner parallelism (the cut tests' estimator variants).
+    const int inner = std::max(1, threads / std::max(1, static_cast<int>(now.size())));
+    parallel_for(now.size(), options.jobs, [&](std::size_t k) {
+      const Node& n = *now[k];
+      if (n.group) {
+        GroupOutcome* g = nullptr;
+        for (auto& go : r.groups) {
+          if (go.name == n.group->name()) g = &go;
+        }
+        run_group_node(n, *g, r, inner);
+      } else {
+        run_test_node(n, r, inner);
+      }
+    });
+  }
+  add_inputs(r);
+  r.runtime_s = seconds_since(t0);
+  return r;
+}
+
+void check_signals(TestSpec& t, const KindRegistry& kinds) {
+  const TestKind* kind = kinds.find(t.kind);
+  if (!t.usable() || !kind) return;
+  const std::string label = (t.id.empty() ? "" : t.id + "/") + t.data.relative_file;
+  try {
+    const SignalTable table = SignalTable::open(t.data, label);
+    for (const auto& name : kind->required_channels(t)) {
+      if (!table.has(name)) {
+        std::string have;
+        for (const auto& n : table.names()) have += (have.empty() ? "" : ", ") + n;
+        t.errors.push_back(label + ": channel '" + name + "' is required for a " + t.kind +
+                           " test (channels: " + have + ")");
+      }
+    }
+    const double duration = static_cast<double>(table.samples()) / t.sample_rate_hz;
+    for (auto& e : kind->check_record(t, duration)) t.errors.push_back(std::move(e));
+  } catch (const InputError& e) {
+    t.errors.push_back(e.what());
+  }
+}
+
+}  // namespace chatterlab::app

@@ -1,0 +1,59 @@
+// Runs every test of a campaign and every group product that applies, each through its kind
+// (app/pipeline/kind.h). The campaign is a small dependency graph: a test or group that needs
+// a value runs after every provider of that value. Nodes of one level run in parallel; each
+// test is isolated: bad input skips it with the reason, a failed provider skips the consumers
+// that require its value ("needs ... from ..., which was skipped: ..."), and nothing stops the
+// rest of the campaign. A report never shows a number from a step that failed.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "app/core/campaign.h"
+#include "app/pipeline/campaign_values.h"
+#include "app/pipeline/outcome.h"
+#include "app/pipeline/registry.h"
+
+namespace chatterlab::app {
+
+struct PipelineOptions {
+  int jobs = 0;  // worker threads; 0: one per hardware thread
+};
+
+struct InputFile {
+  std::string relative_path;
+  std::uintmax_t bytes = 0;
+  std::string sha256;
+};
+
+struct CampaignResults {
+  CampaignSpec campaign;
+  const KindRegistry* kinds = nullptr;
+  PipelineOptions options;
+  std::vector<TestOutcome> tests;                // same order as campaign.tests
+  std::vector<GroupOutcome> groups;              // products that apply, in registration order
+  CampaignValues values;                         // what the tests and groups provided
+  std::vector<std::vector<std::string>> levels;  // the run order: test ids / group:<name>
+  std::vector<InputFile> inputs;                 // every yaml and signal file read
+  double runtime_s = 0;
+
+  const GroupOutcome* group(const std::string& name) const;
+  // Tests that failed with an internal error (not bad input), and groups alike.
+  int internal_errors() const;
+};
+
+// The run order of a campaign: levels of node names (test ids, "group:<name>"); a node's
+// providers are all in earlier levels. Exposed for tests.
+std::vector<std::vector<std::string>> schedule(const CampaignSpec& campaign,
+                                               const KindRegistry& kinds);
+
+// Opens the test's record and checks it holds the kind's channels and fits its windows; every
+// problem becomes one of t.errors (the test is then unusable).
+void check_signals(TestSpec& t, const KindRegistry& kinds = builtin_kinds());
+
+// Loads nothing: takes a loaded campaign. Never throws for bad test content.
+CampaignResults run_campaign(CampaignSpec campaign, const PipelineOptions& options,
+                             const KindRegistry& kinds = builtin_kinds());
+
+}  // namespace chatterlab::app

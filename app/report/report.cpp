@@ -1,0 +1,226 @@
+#include "app/report/report.h"
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <thread>
+#include <vector>
+
+#include "analysis/common/library_versions.h"
+#include "app/core/format.h"
+#include "app/git_commit.h"
+#include "app/report/document.h"
+#include "app/report/figure_jobs.h"
+#include "app/report/results_json.h"
+#include "app/report/truth.h"
+#include "render/mustache_template.h"
+
+namespace chatterlab::app {
+
+using nlohmann::json;
+
+namespace {
+
+// The settings in force as rows "kind: a.b.c = value" (the same values as results.json
+// `settings`, where they keep their types).
+void flatten_settings(const std::string& prefix, const json& j, json& rows) {
+  if (j.is_object()) {
+    for (const auto& [k, v] : j.items()) {
+      flatten_settings(prefix.empty() ? k : prefix + "." + k, v, rows);
+    }
+    return;
+  }
+  std::string value;
+  if (j.is_number_float()) {
+    value = fmt_sig(j.get<double>(), 6);
+  } else if (j.is_string()) {
+    value = j.get<std::string>();
+  } else {
+    value = j.dump();
+  }
+  rows.push_back({{"key", prefix}, {"value", value}});
+}
+
+// The kinds' sections in registry order, each rendered from templates/kinds/<name>.html with
+// the context its kind gives, and the table of contents they add.
+void kind_sections(const CampaignResults& r, const FigureSet& figures, json& ctx,
+                   std::vector<std::string>& warnings) {
+  const auto tdir = templates_dir() / "kinds";
+  json sections = json::array(), toc = json::array();
+  const auto add = [&](const std::string& name, const json& section) {
+    if (section.is_null()) return;
+    sections.push_back({{"html", render::render_template_file(tdir / (name + ".html"), section)}});
+    for (const auto& entry : section.value("toc", json::array())) toc.push_back(entry);
+  };
+  for (const auto& entry : r.kinds->in_order()) {
+    if (entry.kind) {
+      std::vector<const TestOutcome*> ok;
+      for (const auto& t : r.tests) {
+        if (t.status.ok && t.spec->kind == entry.kind->name()) ok.push_back(&t);
+      }
+      const json section = entry.kind->report_section(r, ok, figures);
+      // A kind without a section of its own: its tests' warnings go to the campaign's list.
+      if (section.is_null()) {
+        for (const TestOutcome* t : ok) {
+          for (const auto& w : t->warnings) {
+            warnings.push_back((t->spec->id.empty() ? "." : t->spec->id) + ": " + w);
+          }
+        }
+      }
+      add(entry.kind->name(), section);
+    } else if (const GroupOutcome* g = r.group(entry.group->name())) {
+      for (const auto& w : g->status.warnings) {
+        warnings.push_back(g->name + " group: " + w);
+      }
+      add(entry.group->name(), entry.group->report_section(r, *g, figures));
+    }
+  }
+  ctx["sections"] = sections;
+  ctx["toc"] = toc;
+}
+
+FigureSet draw_figures(const CampaignResults& r, const std::filesystem::path& out, int jobs) {
+  FigureJobs work;
+  for (const auto& t : r.tests) {
+    if (!t.status.ok) continue;
+    if (const TestKind* kind = r.kinds->find(t.spec->kind)) kind->figures(r, t, work);
+  }
+  for (const auto& g : r.groups) {
+    if (const GroupProduct* p = r.kinds->find_group(g.name)) p->figures(r, g, work);
+  }
+  return work.draw(out, jobs);
+}
+
+}  // namespace
+
+int run_report(const std::filesystem::path& campaign_dir, const std::filesystem::path& out,
+               const ReportOptions& options, std::ostream& log) {
+  const auto t0 = std::chrono::steady_clock::now();
+  CampaignSpec spec = load_campaign(campaign_dir);
+  if (!std::filesystem::exists(spec.root / "campaign.yaml") ||
+      !std::filesystem::is_directory(spec.root)) {
+    for (const auto& e : spec.errors) log << "chatterlab report: " << e << "\n";
+    return 1;
+  }
+  PipelineOptions popt;
+  popt.jobs = options.jobs;
+  CampaignResults r = run_campaign(std::move(spec), popt);
+  const TruthComparison truth = compare_with_truth(r);
+
+  std::filesystem::create_directories(out / "figures");
+  const FigureSet figures = draw_figures(r, out, options.jobs);
+
+  json ctx;
+  const auto& c = r.campaign;
+  ctx["campaign"] = {{"name", c.name.empty() ? c.root.filename().string() : c.name},
+                     {"description", c.description},
+                     {"workpiece", c.workpiece},
+                     {"machine", c.machine},
+                     {"root", c.root.string()}};
+  if (c.tool) {
+    json tool = {{"teeth", c.tool->teeth}, {"radius_mm", fmt_sig(c.tool->radius_m * 1e3, 4)}};
+    if (c.tool->helix_deg) tool["helix_deg"] = fmt_sig(*c.tool->helix_deg, 3);
+    ctx["campaign"]["tool"] = tool;
+  }
+  ctx["generated_utc"] = utc_timestamp();
+  ctx["version"] = CHATTERLAB_VERSION;
+  json tests = json::array(), skipped = json::array(), internal = json::array();
+  std::vector<std::string> warnings = c.errors;
+  warnings.insert(warnings.end(), c.warnings.begin(), c.warnings.end());
+  for (const auto& [block, errors] : c.block_errors) {
+    for (const auto& e : errors) warnings.push_back(e);
+  }
+  warnings.insert(warnings.end(), truth.warnings.begin(), truth.warnings.end());
+  warnings.insert(warnings.end(), figures.errors.begin(), figures.errors.end());
+  int ok = 0;
+  for (const auto& t : r.tests) {
+    const std::string id = t.spec->id.empty() ? "." : t.spec->id;
+    const TestKind* kind = r.kinds->find(t.spec->kind);
+    tests.push_back({{"id", id},
+                     {"kind", t.spec->kind.empty() ? "?" : t.spec->kind},
+                     {"status", status_word(t.status, t.failure)},
+                     {"note", t.status.ok && kind ? kind->note(t) : std::string()}});
+    if (t.status.ok) {
+      ++ok;
+    } else {
+      (t.failure == Failure::kInternal ? internal : skipped)
+          .push_back({{"id", id}, {"reason", t.status.message}});
+    }
+  }
+  for (const auto& g : r.groups) {
+    if (g.failure == Failure::kInternal) {
+      internal.push_back({{"id", "group " + g.name}, {"reason", g.status.message}});
+    }
+  }
+  kind_sections(r, figures, ctx, warnings);
+  ctx["tests"] = tests;
+  ctx["skipped"] = skipped;
+  ctx["summary"] = {{"tests_found", r.tests.size()},
+                    {"tests_ok", ok},
+                    {"tests_skipped", r.tests.size() - static_cast<std::size_t>(ok)}};
+  ctx["has_skipped"] = !skipped.empty();
+  ctx["has_internal_errors"] = !internal.empty();
+  ctx["internal_errors"] = internal;
+  ctx["has_warnings"] = !warnings.empty();
+  ctx["warnings"] = warnings;
+  json truth_rows = json::array();
+  for (const auto& row : truth.rows) {
+    truth_rows.push_back({{"quantity", row.quantity},
+                          {"source", row.source},
+                          {"truth", fmt_sig(row.truth, 5)},
+                          {"estimate", fmt_sig(row.estimate, 5)},
+                          {"error_pct", fmt_fixed(row.error_pct, 2)}});
+  }
+  ctx["truth"] = {{"present", truth.present && !truth.rows.empty()}, {"rows", truth_rows}};
+  if (truth.present && !truth.rows.empty()) {
+    ctx["toc"].push_back({{"anchor", "truth"}, {"title", "Comparison with known values"}});
+  }
+  ctx["toc"].push_back({{"anchor", "provenance"}, {"title", "Provenance"}});
+  json inputs = json::array();
+  for (const auto& f : r.inputs) {
+    inputs.push_back({{"file", f.relative_path}, {"bytes", f.bytes}, {"sha256", f.sha256}});
+  }
+  json settings = json::array();
+  flatten_settings("", settings_json(r), settings);
+  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
+  settings.push_back(
+      {{"key", "worker threads"},
+       {"value", options.jobs > 0 ? std::to_string(options.jobs)
+                                  : "one per hardware thread (" + std::to_string(hw) + ")"}});
+  const LibraryVersions lib = library_versions();
+  const double runtime =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ctx["provenance"] = {{"inputs", inputs},
+                       {"runtime_s", fmt_sig(runtime, 3)},
+                       {"settings", settings},
+                       {"git_commit", CHATTERLAB_GIT_COMMIT},
+                       {"libraries", json::array({{{"name", "Eigen"}, {"version", lib.eigen}},
+                                                  {{"name", "Ceres"}, {"version", lib.ceres}},
+                                                  {{"name", "FFTW"}, {"version", lib.fftw}}})}};
+
+  // results.json first: it must exist even if the PDF step fails.
+  {
+    std::ofstream js(out / "results.json");
+    js << results_json(r, truth).dump(2) << "\n";
+  }
+  const bool pdf_written = write_documents("report.html", ctx, out, options.pdf, "report", log);
+  const int internal_errors = r.internal_errors();
+  int rc = options.pdf && !pdf_written ? 1 : 0;
+  if (internal_errors > 0) rc = 3;
+  const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  log << "report: " << r.tests.size() << " tests, " << ok << " analysed, "
+      << r.tests.size() - static_cast<std::size_t>(ok) << " skipped; wrote "
+      << (out / "index.html").string() << (pdf_written ? ", report.pdf" : "")
+      << ", results.json in " << fmt_sig(total, 3) << " s\n";
+  for (const auto& s : skipped)
+    log << "  skipped " << s["id"].get<std::string>() << ": " << s["reason"].get<std::string>()
+        << "\n";
+  for (const auto& s : internal)
+    log << "  INTERNAL ERROR " << s["id"].get<std::string>() << ": "
+        << s["reason"].get<std::string>() << "\n";
+  return rc;
+}
+
+}  // namespace chatterlab::app

@@ -1,0 +1,28 @@
+// results.json, version 1 (docs/formats.md, "results.json"): every number the report shows.
+// The envelope (format, campaign, generator, provenance, settings, tests, groups, truth
+// comparison) is written here; each test's and group's own keys come from its kind.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include "app/pipeline/pipeline.h"
+#include "app/report/truth.h"
+
+namespace chatterlab::app {
+
+nlohmann::json results_json(const CampaignResults& r, const TruthComparison& truth);
+
+// Finite numbers as numbers, NaN and infinities as null (JSON has no NaN).
+nlohmann::json number_or_null(double v);
+
+// A test's status word: "ok", "skipped" (bad or missing input) or "error" (internal error).
+const char* status_word(const StepSummary& status, Failure failure);
+
+// Every setting the campaign's steps used, by kind and group name (results.json `settings`).
+nlohmann::json settings_json(const CampaignResults& r);
+
+// Tool version, git commit (when known) and the versions of the libraries that computed
+// numbers (results.json `provenance`).
+nlohmann::json provenance_json(const CampaignResults& r);
+
+}  // namespace chatterlab::app

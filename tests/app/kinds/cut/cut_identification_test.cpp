@@ -1,0 +1,247 @@
+// The identification sequence end to end (docs/identification.md): campaigns written by
+// `chatterlab synth` with the hammer test at rest differing from the cut's modal parameters as
+// in 000 sec. 5.1, unequal teeth (000 table 5.2), runout, 5e-7 m noise and an offset angle drawn
+// from the seed, through the pipeline; the identified values against truth.yaml.
+//
+// Acceptance (issue targets): offset within 0.5 deg (modulo the tooth pitch: the tooth labels
+// follow the offset), per-tooth coefficients within 2 % after 0.2 s of data, m and k within 2 %,
+// c within 10 %.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <string>
+
+#include "app/core/campaign.h"
+#include "app/kinds/cut/cut_kind.h"
+#include "app/pipeline/pipeline.h"
+#include "app/report/truth.h"
+#include "app/synth.h"
+#include "tests/support/record_property.h"
+#include "tests/support/temp_campaign.h"
+
+namespace chatterlab::app {
+namespace {
+
+using chatterlab::testing::TempDir;
+
+constexpr double kOffsetToleranceDeg = 0.5;
+constexpr double kCoefficientTolerance = 0.02;
+constexpr double kMassStiffnessTolerance = 0.02;
+constexpr double kDampingTolerance = 0.10;
+
+// Tap tests at the hammer values of 000 sec. 5.1, a three-feed dyno group, one constant-depth
+// cut of 0.35 s (20 settling revolutions, then 0.2 s of data) with no offset given.
+std::string spec(int seed, const std::string& cut_tests,
+                 const std::string& cut_modal = "{m_kg: 0.03134, c_kg_s: 22.21, k_N_m: 9.84e5}",
+                 const std::string& cut_coefficients =
+                     "{Kt_N_m2: [2.483e8, 6.641e9], Kr_N_m2: [2.196e8, 4.154e9]}") {
+  return "format: chatterlab-synth/1\n"
+         "name: ident-" +
+         std::to_string(seed) +
+         "\n"
+         "seed: " +
+         std::to_string(seed) +
+         "\n"
+         "tool: {teeth: 2, radius_mm: 6.35}\n"
+         "tap:\n"
+         "  sample_rate_hz: 25600\n"
+         "  hits: 3\n"
+         "  hit_spacing_s: 1.0\n"
+         "  response: acceleration\n"
+         "  noise_pct: 1.0\n"
+         "  force_peak_N: 150\n"
+         "  pulse_width_s: 0.0003\n"
+         "  axes:\n"
+         "    x: {modes: [{m_kg: 0.03211, c_kg_s: 13.39, k_N_m: 1.023e6}]}\n"
+         "    y: {modes: [{m_kg: 0.03211, c_kg_s: 13.39, k_N_m: 1.023e6}]}\n"
+         "dyno:\n"
+         "  spindle_rpm: 600\n"
+         "  axial_depth_mm: 1.0\n"
+         "  feeds_mm: [0.05, 0.10, 0.15]\n"
+         "  sample_rate_hz: 20000\n"
+         "  duration_s: 1.0\n"
+         "  theta_dyn_deg: 20\n"
+         "  noise_N: 2.0\n"
+         "  coefficients: {Ktc_N_m2: 5.89e8, Kte_N_m: 9080, Krc_N_m2: 3.19e8, Kre_N_m: 11300}\n"
+         "cut:\n"
+         "  sample_rate_hz: 100000\n"
+         "  spindle_rpm: 15000\n"
+         "  feed_per_tooth_mm: 0.0635\n"
+         "  radial_immersion_mm: 0.382\n"
+         "  operation: up-milling\n"
+         "  modal: " +
+         cut_modal + "\n" + "  coefficients: " + cut_coefficients + "\n" +
+         "  sensor_to_tip: 2.78\n"
+         "  noise_m: 5.0e-7\n"
+         "  runout_um: 3.0\n"
+         "  air_revolutions: 30\n"
+         "  tests:\n" +
+         cut_tests;
+}
+
+CampaignResults synth_and_run(const TempDir& d, const std::string& spec_text,
+                              const std::string& estimation_yaml) {
+  const auto spec_file = d.write("spec.yaml", spec_text);
+  const auto campaign = d.path() / "campaign";
+  synthesize_campaign(spec_file, campaign);
+  if (!estimation_yaml.empty()) {
+    std::ofstream(campaign / "campaign.yaml", std::ios::app) << estimation_yaml;
+  }
+  return run_campaign(load_campaign(campaign), {});
+}
+
+// quantity -> |error| in percent, from the truth comparison of one test.
+std::map<std::string, double> errors_of(const TruthComparison& c, const std::string& test) {
+  std::map<std::string, double> e;
+  for (const auto& row : c.rows) {
+    if (row.source == test) e[row.quantity] = std::abs(row.error_pct);
+  }
+  return e;
+}
+
+class Identification : public ::testing::TestWithParam<int> {};
+
+TEST_P(Identification, RecoversTruthFromASynthCut) {
+  const int seed = GetParam();
+  TempDir d;
+  const CampaignResults r = synth_and_run(
+      d, spec(seed, "    - {name: constant, axial_depth_mm: 1.0, duration_s: 0.35}\n"),
+      "estimation: {repeat_runs: 0}\n");
+  const TestOutcome* cut = nullptr;
+  for (const auto& t : r.tests) {
+    if (t.spec->id == "cuts/constant") cut = &t;
+  }
+  ASSERT_NE(cut, nullptr);
+  ASSERT_TRUE(cut->status.ok) << cut->status.message;
+  const CutEstimation& e = cut->result_as<CutOutcome>()->estimation;
+  ASSERT_TRUE(e.summary.ok) << e.summary.message;
+  EXPECT_EQ(identification_source(r), cut);
+
+  const TruthComparison truth = compare_with_truth(r);
+  const auto err = errors_of(truth, "cuts/constant");
+  ASSERT_TRUE(err.count("offset_angle_deg"));
+  const TruthRow* offset_row = nullptr;
+  for (const auto& row : truth.rows) {
+    if (row.source == "cuts/constant" && row.quantity == "offset_angle_deg") offset_row = &row;
+  }
+  const double offset_error_deg = std::abs(offset_row->estimate - offset_row->truth);
+  const std::string s = "seed" + std::to_string(seed) + "_";
+  chatterlab::testing::record_and_print(s + "truth_offset_deg", offset_row->truth);
+  chatterlab::testing::record_and_print(s + "offset_error_deg", offset_error_deg);
+  chatterlab::testing::record_and_print(s + "passes", static_cast<double>(e.passes.size()));
+  EXPECT_LT(offset_error_deg, kOffsetToleranceDeg);
+  for (const char* k :
+       {"Kt1_N_m2", "Kr1_N_m2", "Kt2_N_m2", "Kr2_N_m2", "m_kg", "k_N_m", "c_kg_s"}) {
+    const std::string q = std::string("identified.") + k;
+    ASSERT_TRUE(err.count(q)) << q;
+    chatterlab::testing::record_and_print(s + k + "_error_pct", err.at(q));
+  }
+  for (const char* k : {"Kt1_N_m2", "Kr1_N_m2", "Kt2_N_m2", "Kr2_N_m2"}) {
+    EXPECT_LT(err.at(std::string("identified.") + k), 100 * kCoefficientTolerance) << k;
+  }
+  EXPECT_LT(err.at("identified.m_kg"), 100 * kMassStiffnessTolerance);
+  EXPECT_LT(err.at("identified.k_N_m"), 100 * kMassStiffnessTolerance);
+  EXPECT_LT(err.at("identified.c_kg_s"), 100 * kDampingTolerance);
+  // The scale-free combinations (docs/identification.md, "Scale").
+  chatterlab::testing::record_and_print(s + "fn_error_pct", err.at("identified.fn_hz"));
+  chatterlab::testing::record_and_print(s + "zeta_error_pct", err.at("identified.zeta"));
+  EXPECT_LT(err.at("identified.fn_hz"), 100 * kMassStiffnessTolerance);
+  EXPECT_LT(err.at("identified.zeta"), 100 * kDampingTolerance);
+  for (const char* k : {"Kt1", "Kr1", "Kt2", "Kr2"}) {
+    const std::string q = std::string("identified.") + k + "_over_k_per_m";
+    chatterlab::testing::record_and_print(s + k + "_over_k_error_pct", err.at(q));
+    EXPECT_LT(err.at(q), 100 * kCoefficientTolerance) << q;
+  }
+  // The hammer values are far from the cut's (c by -40 %): the sequence moved them.
+  EXPECT_GT(e.passes.size(), 1u);
+
+  // Every variant ran, with 000 sec. 4.5's observability ranks at the operating point.
+  const std::map<std::string, std::pair<int, int>> ranks = {
+      {"ekf-modal-x", {3, 5}},     {"ekf-modal-xy", {6, 7}}, {"ekf-modal-xy-mk", {6, 6}},
+      {"ekf-modal-xy-mc", {6, 6}}, {"ekf-coeff-xy", {6, 6}}, {"ekf-coeff-xy-per-tooth", {6, 6}}};
+  ASSERT_EQ(e.variants.size(), ranks.size());
+  for (const auto& v : e.variants) {
+    ASSERT_TRUE(v.run.summary.ok) << v.run.estimator << ": " << v.run.summary.message;
+    ASSERT_TRUE(v.observability_status.ok) << v.observability_status.message;
+    EXPECT_EQ(v.observability.rank, ranks.at(v.run.estimator).first) << v.run.estimator;
+    EXPECT_EQ(v.observability.states, ranks.at(v.run.estimator).second) << v.run.estimator;
+    EXPECT_GT(v.run.steps, 390000) << v.run.estimator;  // 0.2 s at 5e-7 s, less one delay
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Seeds, Identification, ::testing::Values(11, 23, 37));
+
+// docs/identification.md, "Scale": a tool whose in-cut m, k lie 7 % below the hammer test's.
+// Deflections cannot fix the common scale of m, c, k and the coefficients, so the identified
+// values may be off by a common factor (here m +4.4 %, k alike); the scale-free fn, zeta and
+// K / k still hold (fn 0.3 %, K / k 2 %, zeta 10 %), as does the offset (0.5 deg).
+TEST(IdentificationScale, ScaleFreeValuesHoldWhenTheHammerScaleIsOff) {
+  TempDir d;
+  const CampaignResults r =
+      synth_and_run(d,
+                    spec(41, "    - {name: constant, axial_depth_mm: 0.8, duration_s: 0.35}\n",
+                         "{m_kg: 0.030, c_kg_s: 18.0, k_N_m: 9.5e5}",
+                         "{Kt_N_m2: [7.0e8, 9.0e8], Kr_N_m2: [2.5e8, 3.5e8]}"),
+                    "estimation: {repeat_runs: 0}\n");
+  std::map<std::string, double> signed_err;
+  double offset_error_deg = 1e9;
+  for (const auto& row : compare_with_truth(r).rows) {
+    if (row.source != "cuts/constant") continue;
+    signed_err[row.quantity] = row.error_pct;
+    if (row.quantity == "offset_angle_deg") offset_error_deg = std::abs(row.estimate - row.truth);
+  }
+  ASSERT_TRUE(signed_err.count("identified.m_kg"));
+  EXPECT_LT(offset_error_deg, kOffsetToleranceDeg);
+  EXPECT_LT(std::abs(signed_err.at("identified.fn_hz")), 0.3);
+  EXPECT_LT(std::abs(signed_err.at("identified.zeta")), 100 * kDampingTolerance);
+  const double scale = signed_err.at("identified.m_kg");
+  chatterlab::testing::record_and_print("common_scale_error_pct", scale);
+  for (const char* k : {"Kt1", "Kr1", "Kt2", "Kr2"}) {
+    const std::string q = std::string("identified.") + k;
+    EXPECT_LT(std::abs(signed_err.at(q + "_over_k_per_m")), 100 * kCoefficientTolerance) << q;
+  }
+}
+
+// A bad campaign.yaml estimation block skips the identification of every cut test with the key
+// named, while the rest of the cut analysis (offset angle) still runs.
+TEST(IdentificationInput, BadEstimationBlockSkipsOnlyTheEstimation) {
+  TempDir d;
+  const CampaignResults r =
+      synth_and_run(d, spec(5, "    - {name: constant, axial_depth_mm: 1.0, duration_s: 0.35}\n"),
+                    "estimation: {window_s: -0.2, repeat_runs: 1}\n");
+  for (const auto& t : r.tests) {
+    if (t.spec->id != "cuts/constant") continue;
+    ASSERT_TRUE(t.status.ok) << t.status.message;
+    EXPECT_TRUE(t.result_as<CutOutcome>()->offset_status.ok);
+    const StepSummary& s = t.result_as<CutOutcome>()->estimation.summary;
+    EXPECT_FALSE(s.ok);
+    EXPECT_NE(s.message.find("estimation.window_s"), std::string::npos) << s.message;
+    EXPECT_NE(s.message.find("estimation.repeat_runs"), std::string::npos) << s.message;
+  }
+  EXPECT_EQ(identification_source(r), nullptr);
+}
+
+// A cut too short for the window after settling (23.75 revolutions: enough for the offset
+// angle's 23, not for 20 settling revolutions plus four): skipped with the reason.
+TEST(IdentificationInput, ShortCutSaysWhy) {
+  TempDir d;
+  const CampaignResults r =
+      synth_and_run(d, spec(6, "    - {name: short, axial_depth_mm: 1.0, duration_s: 0.095}\n"),
+                    "estimation: {repeat_runs: 0}\n");
+  for (const auto& t : r.tests) {
+    if (t.spec->id != "cuts/short") continue;
+    ASSERT_TRUE(t.status.ok) << t.status.message;
+    EXPECT_TRUE(t.result_as<CutOutcome>()->offset_status.ok)
+        << t.result_as<CutOutcome>()->offset_status.message;
+    const StepSummary& s = t.result_as<CutOutcome>()->estimation.summary;
+    EXPECT_FALSE(s.ok);
+    EXPECT_NE(s.message.find("cuts/short/test.yaml: estimation window"), std::string::npos)
+        << s.message;
+    EXPECT_NE(s.message.find("four revolutions"), std::string::npos) << s.message;
+  }
+}
+
+}  // namespace
+}  // namespace chatterlab::app
