@@ -8,8 +8,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "app/campaign.h"
-#include "app/pipeline.h"
+#include "app/core/campaign.h"
+#include "app/kinds/cut/cut_step.h"
+#include "app/pipeline/pipeline.h"
 #include "app/synth.h"
 
 namespace {
@@ -29,7 +30,12 @@ const std::filesystem::path& demo_campaign() {
 
 void BM_CutTestPipeline(benchmark::State& state) {
   app::CampaignSpec spec = app::load_campaign(demo_campaign());
-  if (state.range(0) == 0) spec.estimation.repeat.runs = 0;
+  if (state.range(0) == 0) {
+    auto block =
+        std::make_shared<app::EstimationBlock>(*spec.block<app::EstimationBlock>("estimation"));
+    block->options.repeat.runs = 0;
+    spec.blocks["estimation"] = block;
+  }
   // Only the tap tests, the dyno group and the constant cut.
   std::vector<app::TestSpec> keep;
   for (auto& t : spec.tests) {
@@ -42,7 +48,9 @@ void BM_CutTestPipeline(benchmark::State& state) {
   for (auto _ : state) {
     const app::CampaignResults r = app::run_campaign(spec, o);
     for (const auto& t : r.tests) {
-      if (t.cut) identification_s = t.cut->estimation.runtime_s;
+      if (const auto* c = t.status.ok ? t.result_as<app::CutOutcome>() : nullptr) {
+        identification_s = c->estimation.runtime_s;
+      }
     }
     benchmark::DoNotOptimize(r.runtime_s);
   }

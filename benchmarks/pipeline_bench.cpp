@@ -10,7 +10,7 @@
 #include "analysis/frf/hits.h"
 #include "analysis/frf/modal_fit.h"
 #include "analysis/frf/modal_response.h"
-#include "app/signals.h"
+#include "app/core/signals.h"
 
 namespace {
 
