@@ -8,6 +8,7 @@
 #include "analysis/common/summary.h"
 #include "analysis/dynamics/bifurcation.h"
 #include "analysis/dynamics/poincare.h"
+#include "analysis/dynamics/simulated_bifurcation.h"
 #include "analysis/milling/simulation.h"
 #include "app/core/format.h"
 #include "app/core/hashing.h"
@@ -31,13 +32,6 @@ std::vector<double> to_std(const Eigen::VectorXd& v, double scale) {
   std::vector<double> out(static_cast<std::size_t>(v.size()));
   for (Eigen::Index i = 0; i < v.size(); ++i) out[static_cast<std::size_t>(i)] = v[i] * scale;
   return out;
-}
-
-// Revolutions that completed (a diverged run leaves NaN samples after the failure).
-Eigen::Index finite_prefix(const milling::OncePerRevolution& s) {
-  Eigen::Index n = 0;
-  while (n < s.x_m.size() && std::isfinite(s.x_m[n]) && std::isfinite(s.y_m[n])) ++n;
-  return n;
 }
 
 render::Figure revolution_figure(const milling::RevolutionRecord& r, int teeth, bool inertial) {
@@ -141,7 +135,8 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
     rec.trace_revolutions = grid.revolutions;
   }
   const milling::SimulationResult sim = milling::simulate(o, rec);
-  const Eigen::Index done = finite_prefix(sim.samples);
+  // Revolutions that completed (a diverged run leaves NaN samples after the failure).
+  const Eigen::Index done = dynamics::completed_revolutions(sim.samples);
 
   json results;
   results["format"] = "chatterlab-simulation-results/1";
@@ -167,14 +162,10 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
                        std::to_string(done) + " revolutions before it");
   }
   {
+    // A diverged run's final growth counts as chatter (simulated_bifurcation.h).
     dynamics::BifurcationOptions bo;
     bo.measurement_noise_m = spec.detector_noise_m;
-    bo.ends_unbounded = !sim.summary.ok;  // the run diverged: its final growth is chatter
-    const Eigen::Index window = bo.window_revolutions;
-    if (done > window) {
-      bif = dynamics::detect_bifurcation(sim.samples.depth_m.head(done), sim.samples.x_m.head(done),
-                                         bo);
-    }
+    bif = dynamics::simulated_run_bifurcation(sim, bo).result;
     if (bif) {
       warnings.insert(warnings.end(), bif->summary.warnings.begin(), bif->summary.warnings.end());
     } else {

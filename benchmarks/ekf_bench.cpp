@@ -82,8 +82,8 @@ void BM_FilterStep(benchmark::State& state) {
   if constexpr (Model::kStiffness >= 0) x0[Model::kStiffness] = kModal.k_N_m;
   if constexpr (Model::kKt >= 0) x0.template tail<2>() << 2e9, 1e9;
   typename Model::StateMatrix P0 = Model::StateMatrix::Identity();
-  ExtendedKalmanFilter<Model> f(model, x0, P0, Model::Noise::Constant(0.1),
-                                Model::Measurement::Constant(1e-10));
+  ToolEkf<Model> f = make_tool_ekf(model, x0, P0, Model::Noise::Constant(0.1),
+                                   Model::Measurement::Constant(1e-10));
   std::size_t i = 0;
   for (auto _ : state) {
     f.predict(inputs[i]);

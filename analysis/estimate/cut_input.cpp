@@ -4,18 +4,18 @@
 #include <sstream>
 #include <string>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/require.h"
 #include "analysis/common/summary.h"
 #include "analysis/milling/chip_traditional.h"
 #include "analysis/milling/engagement.h"
 #include "analysis/milling/force_model.h"
+#include "analysis/signal/unwrap.h"
 
 namespace chatterlab {
 namespace estimate {
 
 namespace {
-
-constexpr double kTwoPi = 6.283185307179586476925;
 
 template <typename T>
 void require(bool rule_holds, const std::string& field, T value, const std::string& rule) {
@@ -147,19 +147,18 @@ MeasuredCut resample_cut(const MeasuredCut& cut, double step_out_s, SplineEnd en
   out.time_step_s = step_out_s;
   out.x_m = resample_cubic_spline(cut.x_m, cut.time_step_s, step_out_s, end);
   out.y_m = resample_cubic_spline(cut.y_m, cut.time_step_s, step_out_s, end);
-  Eigen::VectorXd theta = cut.theta1_rad;
-  double turns = 0.0;
-  for (Eigen::Index i = 1; i < theta.size(); ++i) {
-    const double jump = cut.theta1_rad[i] - cut.theta1_rad[i - 1];
-    if (jump < -0.5 * kTwoPi) turns += kTwoPi;
-    if (jump > 0.5 * kTwoPi) turns -= kTwoPi;
-    theta[i] = cut.theta1_rad[i] + turns;
-  }
-  out.theta1_rad = resample_cubic_spline(theta, cut.time_step_s, step_out_s, end);
+  out.theta1_rad = resample_cubic_spline(signal::unwrap_phase_rad(cut.theta1_rad), cut.time_step_s,
+                                         step_out_s, end);
   out.depth_m = cut.depth_m.size() == 1
                     ? cut.depth_m
                     : resample_cubic_spline(cut.depth_m, cut.time_step_s, step_out_s, end);
   return out;
+}
+
+MeasuredCut with_offset_angle(const MeasuredCut& cut, double offset_angle_deg) {
+  MeasuredCut c = cut;
+  c.theta1_rad.array() += offset_angle_deg * kDegToRad;
+  return c;
 }
 
 Eigen::Vector2d cutting_force_N(const StepChips& chips,

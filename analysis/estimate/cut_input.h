@@ -52,6 +52,11 @@ struct MeasuredCut {
 MeasuredCut resample_cut(const MeasuredCut& cut, double step_out_s,
                          SplineEnd end = SplineEnd::kNotAKnot);
 
+// The cut with theta_1 shifted by an offset angle: theta1_rad + offset_angle_deg (in rad). A
+// window is resampled once with the tachometer phase as theta_1 (offset 0); each offset the
+// identification tries adds to it (000 sec. 5.1: theta_1 = phase + offset).
+MeasuredCut with_offset_angle(const MeasuredCut& cut, double offset_angle_deg);
+
 // One tooth at one step.
 struct ToothChip {
   double sin_theta = 0.0;

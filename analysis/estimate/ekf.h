@@ -1,90 +1,96 @@
-// Discrete extended Kalman filter of 000 eqs 4.5-4.9 (Simon [55]) over a ToolModel, with
-// fixed-size matrices throughout: a step allocates nothing.
+// The EKFs of 000 ch. 4 on the core filter: ToolModel (tool_model.h) with its noise tuning in the
+// model interface of kalman::ExtendedKalmanFilter, whose step is 000 eqs 4.5-4.9 (Simon [55]):
 //
 //   predict (eqs 4.5-4.6):  x^-_k = f(x^+_k-1, u_k-1, 0)
 //                           P^-_k = F P^+_k-1 F^T + L Q L^T,  F = J_f_x, L = J_f_w at x^+_k-1
 //     (eq. 4.6 as printed multiplies P^+_k; the prior is propagated from P^+_k-1.)
-//   update (eqs 4.7-4.9):   S = H P^- H^T + R     (M = I: eqs 4.13, 4.20, 4.28)
+//   update (eqs 4.7-4.9):   S = H P^- H^T + R     (M = I: eqs 4.13, 4.20, 4.28), LDLT of S
 //                           K = P^- H^T S^-1
 //                           x^+ = x^- + K (z - H x^-)
 //                           P^+ = P^- - K H P^-   (= (I - K H) P^-, symmetrised)
-// H selects the measured deflections (ToolModel::measured_state).
+// H selects the measured deflections (ToolModel::measured_state); Q = diag(q), R = diag(r).
 //
-// Parameter hold (update_parameters = false): the Schmidt "consider" update. The deflection and
-// velocity states take their optimal gain, the parameter rows of K are zero, and the covariance
-// is the exact covariance of that suboptimal gain (Joseph form): P^+ = P^- - A with
-// A = P^- H^T S^-1 H P^- except that A's parameter-parameter block is zero.
+// Parameter hold: filter.update_consider(z, parameter_states<Tool>()) is the Schmidt "consider"
+// update. The deflection and velocity states take their optimal gain, the parameter rows of K
+// are zero, and the covariance is the exact covariance of that suboptimal gain (Joseph form):
+// P^+ = P^- - A with A = P^- H^T S^-1 H P^- except that A's parameter-parameter block is zero.
 #pragma once
 
 #include <Eigen/Core>
-#include <Eigen/LU>
 
 #include "analysis/estimate/cut_input.h"
+#include "analysis/estimate/tool_model.h"
+#include "analysis/kalman/extended_kalman_filter.h"
 
 namespace chatterlab {
 namespace estimate {
 
-template <class Model>
-class ExtendedKalmanFilter {
+// A ToolModel with its Q and R in the model interface of kalman::ExtendedKalmanFilter.
+template <class Tool>
+class ToolEkfModel {
  public:
-  static constexpr int N = Model::kStates;
-  static constexpr int W = Model::kNoises;
-  static constexpr int Z = Model::kMeasurements;
-  static constexpr int kParameters = Model::kParameters;
-  using State = typename Model::State;
-  using StateMatrix = typename Model::StateMatrix;
-  using Noise = typename Model::Noise;
-  using Measurement = typename Model::Measurement;
+  static constexpr int kStates = Tool::kStates;
+  static constexpr int kMeasurements = Tool::kMeasurements;
+  using State = typename Tool::State;
+  using Input = ForceInput;
+  using Measurement = typename Tool::Measurement;
+  using Noise = typename Tool::Noise;
+  using StateMatrix = typename Tool::StateMatrix;
+  using MeasurementJacobian = kalman::Matrix<kMeasurements, kStates>;
+  using MeasurementMatrix = kalman::Matrix<kMeasurements, kMeasurements>;
 
-  // @param x0 initial estimate (N);  @param P0 initial covariance (N x N);
-  // @param q diagonal of Q (W: w_x, [w_y], one per parameter);  @param r diagonal of R (Z).
-  ExtendedKalmanFilter(const Model& model, const State& x0, const StateMatrix& P0, const Noise& q,
-                       const Measurement& r)
-      : model_(model), x_(x0), P_(P0), q_(q), r_(r) {}
+  // @param tool process model; @param q diagonal of Q (Tool::kNoises: w_x, [w_y], one per
+  // parameter); @param r diagonal of R (kMeasurements), m^2.
+  ToolEkfModel(const Tool& tool, const Noise& q, const Measurement& r)
+      : tool_(tool), q_(q), R_(r.asDiagonal()) {}
 
-  void predict(const ForceInput& u) {
-    StateMatrix F;
-    const State x_prior = model_.propagate(x_, u, Noise::Zero(), &F);
-    const StateMatrix FP = F * P_;
-    P_.noalias() = FP * F.transpose();
-    model_.add_process_noise(x_, q_, &P_);
-    x_ = x_prior;
+  State propagate(const State& x, const ForceInput& u, StateMatrix* J_f_x) const {
+    return tool_.propagate(x, u, Noise::Zero(), J_f_x);
   }
-
-  void update(const Measurement& z, bool update_parameters = true) {
-    Eigen::Matrix<double, N, Z> PHt;
-    Measurement innovation;
-    for (int i = 0; i < Z; ++i) {
-      PHt.col(i) = P_.col(Model::measured_state(i));
-      innovation[i] = z[i] - x_[Model::measured_state(i)];
-    }
-    Eigen::Matrix<double, Z, Z> S;
-    for (int i = 0; i < Z; ++i) {
-      for (int j = 0; j < Z; ++j) S(i, j) = PHt(Model::measured_state(i), j);
-      S(i, i) += r_[i];
-    }
-    Eigen::Matrix<double, N, Z> K = PHt * S.inverse();
-    StateMatrix A = K * PHt.transpose();
-    if (!update_parameters && kParameters > 0) {
-      K.template bottomRows<kParameters>().setZero();
-      A.template bottomRightCorner<kParameters, kParameters>().setZero();
-    }
-    x_.noalias() += K * innovation;
-    P_ -= A;
-    P_ = 0.5 * (P_ + P_.transpose()).eval();
+  void add_process_noise(const State& x, StateMatrix* P) const {
+    tool_.add_process_noise(x, q_, P);
   }
-
-  const State& state() const { return x_; }
-  const StateMatrix& covariance() const { return P_; }
-  const Model& model() const { return model_; }
+  // Measurement i is state measured_state(i) (the filter then selects instead of multiplying).
+  static constexpr int measured_state(int i) { return Tool::measured_state(i); }
+  // h(x): the measured deflections; J_h_x the selector H of 000 eqs 4.12, 4.19, 4.27.
+  Measurement measure(const State& x, MeasurementJacobian* J_h_x) const {
+    Measurement h;
+    if (J_h_x) J_h_x->setZero();
+    for (int i = 0; i < kMeasurements; ++i) {
+      h[i] = x[Tool::measured_state(i)];
+      if (J_h_x) (*J_h_x)(i, Tool::measured_state(i)) = 1.0;
+    }
+    return h;
+  }
+  const MeasurementMatrix& measurement_noise() const { return R_; }
+  const Tool& tool() const { return tool_; }
 
  private:
-  Model model_;
-  State x_;
-  StateMatrix P_;
+  Tool tool_;
   Noise q_;
-  Measurement r_;
+  MeasurementMatrix R_;
 };
+
+template <class Tool>
+using ToolEkf = kalman::ExtendedKalmanFilter<ToolEkfModel<Tool>>;
+
+// The states the parameter hold keeps: m, c, k or Kt, Kr (the last Tool::kParameters).
+template <class Tool>
+kalman::StateMask<Tool::kStates> parameter_states() {
+  kalman::StateMask<Tool::kStates> s;
+  for (int i = Tool::kFirstParameter; i < Tool::kStates; ++i) s.set(static_cast<std::size_t>(i));
+  return s;
+}
+
+// @param tool process model; @param x0 initial estimate (Tool::kStates); @param P0 its covariance
+// (kStates x kStates); @param q diagonal of Q (Tool::kNoises); @param r diagonal of R
+// (Tool::kMeasurements).
+template <class Tool>
+ToolEkf<Tool> make_tool_ekf(const Tool& tool, const typename Tool::State& x0,
+                            const typename Tool::StateMatrix& P0, const typename Tool::Noise& q,
+                            const typename Tool::Measurement& r) {
+  return ToolEkf<Tool>(ToolEkfModel<Tool>(tool, q, r), x0, P0);
+}
 
 }  // namespace estimate
 }  // namespace chatterlab

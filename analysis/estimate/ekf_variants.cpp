@@ -65,14 +65,42 @@ std::vector<std::string> deflection_columns(bool y_axis) {
   return {"x_m", "vx_m_s"};
 }
 
-template <class Model>
-std::vector<std::string> modal_columns() {
-  std::vector<std::string> c = deflection_columns(Model::kAxes == 2);
-  if (Model::kMass >= 0) c.push_back("m_kg");
-  if (Model::kDamping >= 0) c.push_back("c_kg_s");
-  if (Model::kStiffness >= 0) c.push_back("k_N_m");
+// History columns: the deflection states, then the estimate keys (kEstimators).
+std::vector<std::string> state_columns(EstimatorId id, int teeth) {
+  std::vector<std::string> c = deflection_columns(estimator_info(id).measured_axes == 2);
+  for (std::string& k : estimate_keys(id, teeth)) c.push_back(std::move(k));
   return c;
 }
+
+constexpr bool same_text(const char* a, const char* b) {
+  while (*a != '\0' && *a == *b) {
+    ++a;
+    ++b;
+  }
+  return *a == *b;
+}
+
+// The table row of `id` describes Model: states, measured axes, and the estimate keys in the
+// order of the model's parameter states.
+template <class Model>
+constexpr bool row_matches_model(EstimatorId id) {
+  const EstimatorInfo& e = estimator_info(id);
+  const auto key_is = [&e](int state, const char* key) {
+    return state < 0 ||
+           same_text(e.keys[static_cast<std::size_t>(state - Model::kFirstParameter)], key);
+  };
+  return e.states == Model::kStates && e.measured_axes == Model::kMeasurements &&
+         e.key_count == Model::kParameters && key_is(Model::kMass, "m_kg") &&
+         key_is(Model::kDamping, "c_kg_s") && key_is(Model::kStiffness, "k_N_m");
+}
+static_assert(row_matches_model<ModalXModel>(EstimatorId::kModalX));
+static_assert(row_matches_model<ModalXyModel>(EstimatorId::kModalXy));
+static_assert(row_matches_model<ModalXyMkModel>(EstimatorId::kModalXyMk));
+static_assert(row_matches_model<ModalXyMcModel>(EstimatorId::kModalXyMc));
+static_assert(row_matches_model<CoeffXyModel>(EstimatorId::kCoeffXy));
+static_assert(row_matches_model<CoeffXyModel>(EstimatorId::kCoeffXyPerTooth));
+static_assert(same_text(estimator_info(EstimatorId::kCoeffXy).keys[0], "Kt_N_m2") &&
+              same_text(estimator_info(EstimatorId::kCoeffXy).keys[1], "Kr_N_m2"));
 
 template <class Model>
 typename Model::Measurement measurement(const MeasuredCut& cut, Eigen::Index k) {
@@ -89,7 +117,6 @@ EkfResult run_single(EstimatorId id, const MeasuredCut& cut, const CutChips& chi
                      const typename Model::StateMatrix& P0, const typename Model::Noise& q,
                      double r_m2, std::vector<std::string> columns, int history_points,
                      InputFn input) {
-  using Filter = ExtendedKalmanFilter<Model>;
   EkfResult res;
   res.id = id;
   res.estimator = estimator_name(id);
@@ -99,14 +126,15 @@ EkfResult run_single(EstimatorId id, const MeasuredCut& cut, const CutChips& chi
   const std::int64_t steps = chips.samples() - 1 - k0;
   const double T = cut.time_step_s;
   HistoryRecorder history(columns, steps, history_points);
-  Filter filter(model, x0, P0, q, Model::Measurement::Constant(r_m2));
+  ToolEkf<Model> filter = make_tool_ekf(model, x0, P0, q, Model::Measurement::Constant(r_m2));
+  kalman::NisMonitor<Model::kMeasurements> nis;
   history.record(static_cast<double>(k0) * T, filter.state());
 
   const auto start = std::chrono::steady_clock::now();
   std::int64_t s = 0;
   for (Eigen::Index k = k0; k + 1 < chips.samples(); ++k) {
     filter.predict(input(chips.chips(k)));
-    filter.update(measurement<Model>(cut, k + 1));
+    nis.add(filter.update(measurement<Model>(cut, k + 1)));
     ++s;
     if (!filter.state().allFinite()) {
       std::ostringstream m;
@@ -121,6 +149,8 @@ EkfResult run_single(EstimatorId id, const MeasuredCut& cut, const CutChips& chi
   res.history = history.take();
   res.final_state = filter.state();
   res.covariance_diagonal = filter.covariance().diagonal();
+  res.nis = nis.summary();
+  res.nis_per_filter = {res.nis};
   for (int i = Model::kFirstParameter; i < Model::kStates; ++i) {
     res.estimates.push_back(
         {columns[static_cast<std::size_t>(i)], filter.state()[i], filter.covariance()(i, i)});
@@ -171,7 +201,7 @@ EkfResult run_modal(EstimatorId id, const MeasuredCut& cut, const CutChips& chip
     q[Model::kStiffness + w0] = o.q_stiffness;
   }
   const std::vector<ToothCoefficients>& coefficients = in.coefficients;
-  return run_single(id, cut, chips, model, x0, P0, q, o.r_m2, modal_columns<Model>(),
+  return run_single(id, cut, chips, model, x0, P0, q, o.r_m2, state_columns(id, 1),
                     o.history_points, [&coefficients](const StepChips& c) {
                       ForceInput u;
                       u.known_N = cutting_force_N(c, coefficients);
@@ -216,11 +246,9 @@ EkfResult run_coeff_shared(const MeasuredCut& cut, const CutChips& chips, const 
   CoeffXyModel::State x0 = CoeffXyModel::State::Zero();
   x0[CoeffXyModel::kKt] = in.start[0].Kt_N_m2;
   x0[CoeffXyModel::kKr] = in.start[0].Kr_N_m2;
-  std::vector<std::string> columns = deflection_columns(true);
-  columns.push_back("Kt_N_m2");
-  columns.push_back("Kr_N_m2");
   return run_single(EstimatorId::kCoeffXy, cut, chips, model, x0, coeff_p0(o), coeff_q(o), o.r_m2,
-                    columns, o.history_points, [](const StepChips& c) {
+                    state_columns(EstimatorId::kCoeffXy, 1), o.history_points,
+                    [](const StepChips& c) {
                       ForceInput u;
                       for (int p = 0; p < c.teeth; ++p) {
                         u.regressor_m2 += tooth_regressor_m2(c.tooth[static_cast<std::size_t>(p)]);
@@ -231,7 +259,7 @@ EkfResult run_coeff_shared(const MeasuredCut& cut, const CutChips& chips, const 
 
 EkfResult run_coeff_per_tooth(const MeasuredCut& cut, const CutChips& chips,
                               const CoeffEkfInputs& in, const CoeffEkfOptions& o) {
-  using Filter = ExtendedKalmanFilter<CoeffXyModel>;
+  using Filter = ToolEkf<CoeffXyModel>;
   constexpr int kKt = CoeffXyModel::kKt;
   EkfResult res;
   res.id = EstimatorId::kCoeffXyPerTooth;
@@ -243,18 +271,16 @@ EkfResult run_coeff_per_tooth(const MeasuredCut& cut, const CutChips& chips,
   const CoeffXyModel::StateMatrix P0 = coeff_p0(o);
   const CoeffXyModel::Noise q = coeff_q(o);
   std::vector<Filter> filters;
+  std::vector<kalman::NisMonitor<CoeffXyModel::kMeasurements>> nis(static_cast<std::size_t>(n));
   filters.reserve(static_cast<std::size_t>(n));
   for (const ToothCoefficients& s : in.start) {
     CoeffXyModel::State x0 = CoeffXyModel::State::Zero();
     x0[kKt] = s.Kt_N_m2;
     x0[kKt + 1] = s.Kr_N_m2;
-    filters.emplace_back(model, x0, P0, q, CoeffXyModel::Measurement::Constant(o.r_m2));
+    filters.push_back(make_tool_ekf(model, x0, P0, q, CoeffXyModel::Measurement::Constant(o.r_m2)));
   }
-  std::vector<std::string> columns = deflection_columns(true);
-  for (int p = 1; p <= n; ++p) {
-    columns.push_back("Kt" + std::to_string(p) + "_N_m2");
-    columns.push_back("Kr" + std::to_string(p) + "_N_m2");
-  }
+  const kalman::StateMask<CoeffXyModel::kStates> hold = parameter_states<CoeffXyModel>();
+  const std::vector<std::string> columns = state_columns(res.id, n);
   const Eigen::Index cols = static_cast<Eigen::Index>(columns.size());
   const auto combined = [&filters, n, cols]() {
     Eigen::VectorXd row(cols);
@@ -294,9 +320,11 @@ EkfResult run_coeff_per_tooth(const MeasuredCut& cut, const CutChips& chips,
     }
     const CoeffXyModel::Measurement z(cut.x_m[k + 1], cut.y_m[k + 1]);
     for (int p = 0; p < n; ++p) {
+      const std::size_t i = static_cast<std::size_t>(p);
       const bool own_tooth_cut = (c.engaged >> p) & 1u;
-      filters[static_cast<std::size_t>(p)].update(z, !gated || own_tooth_cut);
-      finite = finite && filters[static_cast<std::size_t>(p)].state().allFinite();
+      nis[i].add(!gated || own_tooth_cut ? filters[i].update(z)
+                                         : filters[i].update_consider(z, hold));
+      finite = finite && filters[i].state().allFinite();
     }
     ++s;
     if (!finite) {
@@ -321,61 +349,52 @@ EkfResult run_coeff_per_tooth(const MeasuredCut& cut, const CutChips& chips,
                                f.covariance()(kKt + j, kKt + j)});
     }
   }
+  kalman::NisMonitor<CoeffXyModel::kMeasurements> pooled;
+  for (const auto& m : nis) {
+    pooled.merge(m);
+    res.nis_per_filter.push_back(m.summary());
+  }
+  res.nis = pooled.summary();
   if (s == steps && finite) res.summary.succeed();
   return res;
 }
 
 }  // namespace
 
-const char* estimator_name(EstimatorId id) {
-  switch (id) {
-    case EstimatorId::kModalX:
-      return "ekf-modal-x";
-    case EstimatorId::kModalXy:
-      return "ekf-modal-xy";
-    case EstimatorId::kModalXyMk:
-      return "ekf-modal-xy-mk";
-    case EstimatorId::kModalXyMc:
-      return "ekf-modal-xy-mc";
-    case EstimatorId::kCoeffXy:
-      return "ekf-coeff-xy";
-    case EstimatorId::kCoeffXyPerTooth:
-      return "ekf-coeff-xy-per-tooth";
+// The table is in EstimatorId order and its names are unique (its rows match the models: above).
+static_assert([] {
+  for (std::size_t i = 0; i < kEstimatorCount; ++i) {
+    if (static_cast<std::size_t>(kEstimators[i].id) != i) return false;
+    for (std::size_t j = 0; j < i; ++j) {
+      if (same_text(kEstimators[i].name, kEstimators[j].name)) return false;
+    }
   }
-  return "unknown";
-}
+  return true;
+}());
 
 EstimatorId estimator_from_name(const std::string& name) {
-  for (EstimatorId id :
-       {EstimatorId::kModalX, EstimatorId::kModalXy, EstimatorId::kModalXyMk,
-        EstimatorId::kModalXyMc, EstimatorId::kCoeffXy, EstimatorId::kCoeffXyPerTooth}) {
-    if (name == estimator_name(id)) return id;
+  std::string known;
+  for (const EstimatorInfo& e : kEstimators) {
+    if (name == e.name) return e.id;
+    known += (known.empty() ? "" : ", ") + std::string(e.name);
   }
-  throw InputError("estimator = " + name +
-                   ": unknown (ekf-modal-x, ekf-modal-xy, ekf-modal-xy-mk, ekf-modal-xy-mc, "
-                   "ekf-coeff-xy, ekf-coeff-xy-per-tooth)");
+  throw InputError("estimator = " + name + ": unknown (" + known + ")");
 }
 
-int estimator_states(EstimatorId id) {
-  switch (id) {
-    case EstimatorId::kModalX:
-      return ModalXModel::kStates;
-    case EstimatorId::kModalXy:
-      return ModalXyModel::kStates;
-    case EstimatorId::kModalXyMk:
-      return ModalXyMkModel::kStates;
-    case EstimatorId::kModalXyMc:
-      return ModalXyMcModel::kStates;
-    case EstimatorId::kCoeffXy:
-    case EstimatorId::kCoeffXyPerTooth:
-      return CoeffXyModel::kStates;
+std::vector<std::string> estimate_keys(EstimatorId id, int teeth) {
+  const EstimatorInfo& e = estimator_info(id);
+  std::vector<std::string> keys;
+  if (!e.per_tooth) {
+    for (int j = 0; j < e.key_count; ++j) keys.emplace_back(e.keys[static_cast<std::size_t>(j)]);
+    return keys;
   }
-  return 0;
-}
-
-bool is_modal(EstimatorId id) {
-  return id == EstimatorId::kModalX || id == EstimatorId::kModalXy ||
-         id == EstimatorId::kModalXyMk || id == EstimatorId::kModalXyMc;
+  require(teeth >= 1, "estimate_keys: teeth", teeth, "must be >= 1");
+  for (int p = 1; p <= teeth; ++p) {
+    for (int j = 0; j < e.key_count; ++j) {
+      keys.push_back(e.keys[static_cast<std::size_t>(j)] + std::to_string(p) + "_N_m2");
+    }
+  }
+  return keys;
 }
 
 double EkfResult::value(const std::string& key) const {

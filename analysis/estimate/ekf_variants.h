@@ -24,6 +24,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -32,6 +34,7 @@
 #include "analysis/estimate/cut_input.h"
 #include "analysis/estimate/ekf_options.h"
 #include "analysis/estimate/tool_model.h"
+#include "analysis/kalman/consistency.h"
 
 namespace chatterlab {
 namespace estimate {
@@ -45,13 +48,56 @@ enum class EstimatorId {
   kCoeffXyPerTooth,
 };
 
+// One row per variant: everything else about the variants (names, state counts, lists of all
+// variants, estimate keys) derives from this table.
+struct EstimatorInfo {
+  EstimatorId id;
+  const char* name;   // EXPERIMENT_FORMAT.md
+  int states;         // states of one filter
+  bool modal;         // estimates modal parameters (ekf_modal) or cutting coefficients (ekf_coeff)
+  int measured_axes;  // 1: x; 2: x and y
+  bool per_tooth;     // one filter per tooth, keys numbered per tooth ("Kt1_N_m2", ...)
+  int key_count;      // estimate keys (per tooth for per_tooth)
+  std::array<const char*, 3> keys;  // in EXPERIMENT_FORMAT.md order; per tooth: "Kt", "Kr" stems
+  const char* source;               // 000 equations
+};
+
+// clang-format off
+inline constexpr std::array<EstimatorInfo, 6> kEstimators{{
+//  id, name, states, modal, measured_axes, per_tooth, key_count, keys, source
+    {EstimatorId::kModalX,          "ekf-modal-x",            ModalXModel::kStates,    true,  1, false, 3, {"m_kg", "c_kg_s", "k_N_m"},    "000 eqs 4.3-4.14"},
+    {EstimatorId::kModalXy,         "ekf-modal-xy",           ModalXyModel::kStates,   true,  2, false, 3, {"m_kg", "c_kg_s", "k_N_m"},    "000 eqs 4.15-4.22"},
+    {EstimatorId::kModalXyMk,       "ekf-modal-xy-mk",        ModalXyMkModel::kStates, true,  2, false, 2, {"m_kg", "k_N_m", nullptr},     "000 sec. 6.1 (c held)"},
+    {EstimatorId::kModalXyMc,       "ekf-modal-xy-mc",        ModalXyMcModel::kStates, true,  2, false, 2, {"m_kg", "c_kg_s", nullptr},    "000 sec. 6.1 (k held)"},
+    {EstimatorId::kCoeffXy,         "ekf-coeff-xy",           CoeffXyModel::kStates,   false, 2, false, 2, {"Kt_N_m2", "Kr_N_m2", nullptr}, "000 eqs 4.23-4.32"},
+    {EstimatorId::kCoeffXyPerTooth, "ekf-coeff-xy-per-tooth", CoeffXyModel::kStates,   false, 2, true,  2, {"Kt", "Kr", nullptr},          "000 sec. 4.4"},
+}};
+// clang-format on
+inline constexpr std::size_t kEstimatorCount = kEstimators.size();
+
+// The table's row of `id` (rows are in EstimatorId order).
+constexpr const EstimatorInfo& estimator_info(EstimatorId id) {
+  return kEstimators[static_cast<std::size_t>(id)];
+}
+
+// Every variant, in table order.
+constexpr std::array<EstimatorId, kEstimatorCount> all_estimators() {
+  std::array<EstimatorId, kEstimatorCount> ids{};
+  for (std::size_t i = 0; i < kEstimatorCount; ++i) ids[i] = kEstimators[i].id;
+  return ids;
+}
+
 // "ekf-modal-x", ... (EXPERIMENT_FORMAT.md).
-const char* estimator_name(EstimatorId id);
-// Inverse of estimator_name; throws InputError for an unknown name.
+constexpr const char* estimator_name(EstimatorId id) { return estimator_info(id).name; }
+// Inverse of estimator_name; throws InputError for an unknown name (listing the known ones).
 EstimatorId estimator_from_name(const std::string& name);
 // Number of states of one filter of the variant (5, 7, 6, 6, 6, 6).
-int estimator_states(EstimatorId id);
-bool is_modal(EstimatorId id);
+constexpr int estimator_states(EstimatorId id) { return estimator_info(id).states; }
+constexpr bool is_modal(EstimatorId id) { return estimator_info(id).modal; }
+// The variant's estimate keys in EkfResult::estimates order: "m_kg", "c_kg_s", "k_N_m" (modal
+// variants without the held one), "Kt_N_m2", "Kr_N_m2", or per tooth "Kt1_N_m2", "Kr1_N_m2",
+// "Kt2_N_m2", ... for `teeth` teeth (teeth >= 1; ignored by the other variants).
+std::vector<std::string> estimate_keys(EstimatorId id, int teeth = 1);
 
 // Known inputs and initial estimates of the modal filters (000 sec. 6.1).
 struct ModalEkfInputs {
@@ -97,6 +143,14 @@ struct EkfResult {
   double runtime_s = 0.0;    // wall time of the step loop
   double time_step_s = 0.0;  // T
   int filters = 0;           // filters run (per-tooth: n)
+  // Consistency of the innovations (analysis/kalman/consistency.h): mean NIS over the run with
+  // the two-sided 95 % chi-square band of that mean and the fraction of updates inside the
+  // per-update band chi-square(measured axes). A mean far below the band: R or Q larger than the
+  // data's noise (the default tuning's R is a deflection sd of 10 um); far above: overconfident.
+  // Per tooth: pooled over the n filters (they share z, so the pooled band, which assumes
+  // independent updates, is too narrow; nis_per_filter has each filter's own).
+  kalman::NisSummary nis;
+  std::vector<kalman::NisSummary> nis_per_filter;  // one per filter
 
   // Final value of `key`; NaN if the variant does not estimate it.
   double value(const std::string& key) const;

@@ -46,6 +46,16 @@ Mode mode_from_modal(double fn_hz, double zeta, double m_kg) {
   return mode;
 }
 
+std::optional<Mode> dominant_mode(const std::vector<Mode>& modes) {
+  const auto peak = [](const Mode& m) { return 1.0 / (m.c_kg_s * kTwoPi * m.fn_hz); };
+  const Mode* best = nullptr;
+  for (const Mode& m : modes) {
+    if (!best || peak(m) > peak(*best)) best = &m;
+  }
+  if (!best) return std::nullopt;
+  return *best;
+}
+
 Eigen::VectorXcd receptance(const std::vector<Mode>& modes,
                             const Eigen::Ref<const Eigen::VectorXd>& f_hz) {
   Eigen::VectorXcd h = Eigen::VectorXcd::Zero(f_hz.size());

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <vector>
 
 #include "analysis/common/summary.h"  // InputError
@@ -23,6 +24,11 @@ Mode mode_from_mck(double m_kg, double c_kg_s, double k_N_m);
 // k = m wn^2, c = 2 zeta sqrt(k m).
 // @throws InputError unless fn > 0, m > 0, zeta >= 0 (all finite)
 Mode mode_from_modal(double fn_hz, double zeta, double m_kg);
+
+// The mode that dominates a tool's deflection among several fitted ones (the tool mode of a
+// tap test): the largest peak receptance |H(wn)| = 1 / (c wn) (000 eq. 2.5 at resonance), the
+// first of equal ones. Empty when `modes` is.
+std::optional<Mode> dominant_mode(const std::vector<Mode>& modes);
 
 // Receptance (m/N) of a sum of modes, 003 eq. 4-27 with A_i = 1/m_i:
 //   H(w) = sum_i (1/m_i) / (wn_i^2 - w^2 + 2 j zeta_i wn_i w).

@@ -46,12 +46,6 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
-double CutSchedule::depth_at_m(double t_s) const {
-  if (depth_end_m == depth_start_m) return depth_start_m;
-  const double u = std::clamp((t_s - cut_start_s) / (cut_end_s - cut_start_s), 0.0, 1.0);
-  return depth_start_m + u * (depth_end_m - depth_start_m);
-}
-
 ComparisonWindow comparison_window(const CutSchedule& cut, double spindle_rpm, int revolutions,
                                    double depth_m) {
   if (!std::isfinite(cut.cut_start_s) || !std::isfinite(cut.cut_end_s) ||

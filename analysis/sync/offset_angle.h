@@ -21,23 +21,13 @@
 
 #include "analysis/common/summary.h"
 #include "analysis/milling/simulation_options.h"
+#include "analysis/sync/cut_schedule.h"
 #include "analysis/sync/offset_search.h"
 #include "analysis/sync/revolution_mean.h"
 #include "analysis/sync/sync_options.h"
 
 namespace chatterlab {
 namespace sync {
-
-// When the tool is in the workpiece and its depth there (test.yaml cut_window_s and
-// axial_depth_mm): linear from depth_start_m at cut_start_s to depth_end_m at cut_end_s.
-struct CutSchedule {
-  double cut_start_s = std::numeric_limits<double>::quiet_NaN();
-  double cut_end_s = std::numeric_limits<double>::quiet_NaN();
-  double depth_start_m = std::numeric_limits<double>::quiet_NaN();
-  double depth_end_m = std::numeric_limits<double>::quiet_NaN();  // == start: constant depth
-
-  double depth_at_m(double t_s) const;  // clamped to the cut window
-};
 
 struct ComparisonWindow {
   double start_s = std::numeric_limits<double>::quiet_NaN();

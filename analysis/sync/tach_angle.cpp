@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "analysis/signal/pulses.h"
+#include "analysis/signal/unwrap.h"
 
 namespace chatterlab {
 namespace sync {
@@ -143,6 +144,10 @@ Eigen::VectorXd theta1_rad(const TachAngle& tach, double offset_angle_deg) {
     theta[i] = wrap_phase_rad(tach.phase_rad[i] + offset);
   }
   return theta;
+}
+
+Eigen::VectorXd theta1_unwrapped_rad(const TachAngle& tach, double offset_angle_deg) {
+  return signal::unwrap_phase_rad(theta1_rad(tach, offset_angle_deg));
 }
 
 }  // namespace sync

@@ -69,5 +69,10 @@ double wrap_phase_rad(double phase_rad);
 // theta_1 of every sample, rad in [0, 2 pi), for a given offset angle: wrap(phi + offset).
 Eigen::VectorXd theta1_rad(const TachAngle& tach, double offset_angle_deg);
 
+// theta_1 of every sample, increasing: theta1_rad(tach, offset) unwrapped
+// (signal::unwrap_phase_rad), starting in [0, 2 pi) at sample 0. For sampling once per
+// revolution at a fixed theta_1 (dynamics/revolution_sampling.h).
+Eigen::VectorXd theta1_unwrapped_rad(const TachAngle& tach, double offset_angle_deg);
+
 }  // namespace sync
 }  // namespace chatterlab

@@ -5,7 +5,9 @@
 #include <cmath>
 #include <exception>
 
+#include "analysis/dynamics/simulated_bifurcation.h"
 #include "analysis/estimate/cut_input.h"
+#include "analysis/estimate/operating_point.h"
 #include "analysis/milling/simulation.h"
 #include "app/core/format.h"
 #include "app/core/parallel.h"
@@ -13,8 +15,6 @@
 
 namespace chatterlab::app {
 namespace {
-
-constexpr double kDegToRad = 0.017453292519943295;
 
 estimate::CutSetup setup_of(const TestSpec& t, const ToolSpec& tool) {
   estimate::CutSetup s;
@@ -34,133 +34,6 @@ sync::CutSchedule schedule_of(const TestSpec& t) {
           t.kind_spec<CutSpec>().axial_depth_m.first, t.kind_spec<CutSpec>().axial_depth_m.second};
 }
 
-// Window rule (docs/identification.md): test.yaml estimation_window_s when given; otherwise
-// window_s plus one chip delay, at constant depth ending one revolution before the cut ends (the
-// most settled cutting), on a ramp centred where the depth is 3/4 of the measured bifurcation
-// depth (chatter-free cutting, as deep as it stays chatter-free) or 3/4 of the deepest depth
-// when the run never chatters. Never earlier than settle_revolutions after the cut starts.
-EstimationWindow choose_window(const TestSpec& t, int teeth, const dynamics::BifurcationResult* bif,
-                               const EstimationOptions& o, std::vector<std::string>& warnings) {
-  const sync::CutSchedule s = schedule_of(t);
-  const double rev_s = 60.0 / t.kind_spec<CutSpec>().spindle_rpm;
-  const double tau_s = rev_s / teeth;  // the chip delay: the filters start this much later
-  const double first = s.cut_start_s + o.settle_revolutions * rev_s;
-  const double last = s.cut_end_s - rev_s;
-  EstimationWindow w;
-  if (t.kind_spec<CutSpec>().estimation_window_s) {
-    w.start_s = t.kind_spec<CutSpec>().estimation_window_s->first;
-    w.end_s = t.kind_spec<CutSpec>().estimation_window_s->second;
-    w.rule = "test.yaml estimation_window_s";
-  } else {
-    const double length = o.window_s + tau_s;
-    if (s.depth_start_m == s.depth_end_m) {
-      w.end_s = last;
-      w.rule = "the last " + fmt_sig(o.window_s, 4) + " s of the constant-depth cut";
-    } else {
-      const double lo = std::min(s.depth_start_m, s.depth_end_m);
-      const double hi = std::max(s.depth_start_m, s.depth_end_m);
-      double target = 0.75 * hi;
-      if (bif && bif->summary.ok && bif->bifurcation_depth_m) {
-        target = 0.75 * *bif->bifurcation_depth_m;
-        w.rule = "centred at 3/4 of the measured bifurcation depth";
-      } else if (bif && bif->summary.ok && bif->verdict == dynamics::RunVerdict::kAllChatter) {
-        target = lo + 0.25 * (hi - lo);
-        w.rule = "centred near the shallow end (the run chatters throughout)";
-        warnings.push_back(
-            "estimation: the bifurcation detector finds chatter over the whole run; the filters' "
-            "model assumes chatter-free cutting");
-      } else {
-        w.rule = "centred at 3/4 of the deepest depth (no bifurcation measured)";
-      }
-      target = std::clamp(target, lo, hi);
-      const double frac = (target - s.depth_start_m) / (s.depth_end_m - s.depth_start_m);
-      const double centre = s.cut_start_s + frac * (s.cut_end_s - s.cut_start_s);
-      w.end_s = centre + 0.5 * length;
-    }
-    w.end_s = std::min(w.end_s, last);
-    w.start_s = std::max(first, w.end_s - length);
-    w.end_s = std::min(last, w.start_s + length);
-    if (w.end_s - w.start_s < 0.999 * length) {
-      warnings.push_back(
-          "estimation: the cut holds " + fmt_sig(std::max(0.0, w.end_s - w.start_s - tau_s), 3) +
-          " s of settled cutting, less than estimation.window_s = " + fmt_sig(o.window_s, 4) +
-          " s");
-    }
-  }
-  if (!(w.end_s - w.start_s > 4 * rev_s)) {
-    throw InputError(t.yaml_label + ": estimation window " + fmt_sig(w.start_s, 6) + " to " +
-                     fmt_sig(w.end_s, 6) +
-                     " s: the filters need at least four revolutions of settled cutting (after " +
-                     fmt_sig(o.settle_revolutions, 4) + " settling revolutions)");
-  }
-  w.depth_start_m = s.depth_at_m(w.start_s);
-  w.depth_end_m = s.depth_at_m(w.end_s);
-  return w;
-}
-
-// The window's tip deflections and tachometer phase (theta_1 with offset 0), resampled once;
-// each offset adds to theta_1 (theta_1 = phase + offset).
-estimate::MeasuredCut measured_window(const TestSpec& t, const sync::TachAngle& tach,
-                                      const sync::TipDeflection& tip, const EstimationWindow& w,
-                                      double step_s) {
-  const double fs = t.sample_rate_hz;
-  const auto i0 = static_cast<Eigen::Index>(std::ceil(w.start_s * fs));
-  const auto i1 = std::min<Eigen::Index>(static_cast<Eigen::Index>(std::floor(w.end_s * fs)),
-                                         tip.x_m.size() - 1);
-  if (i1 - i0 < 8) {
-    throw InputError(t.yaml_label + ": estimation window " + fmt_sig(w.start_s, 6) + " to " +
-                     fmt_sig(w.end_s, 6) + " s lies outside the record");
-  }
-  const Eigen::Index n = i1 - i0 + 1;
-  estimate::MeasuredCut raw;
-  raw.time_step_s = 1.0 / fs;
-  raw.x_m = tip.x_m.segment(i0, n);
-  raw.y_m = tip.y_m.segment(i0, n);
-  raw.theta1_rad = sync::theta1_rad(tach, 0.0).segment(i0, n);
-  const sync::CutSchedule s = schedule_of(t);
-  if (s.depth_start_m == s.depth_end_m) {
-    raw.depth_m = Eigen::VectorXd::Constant(1, s.depth_start_m);
-  } else {
-    raw.depth_m.resize(n);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      raw.depth_m[i] = s.depth_at_m(static_cast<double>(i0 + i) / fs);
-    }
-  }
-  return estimate::resample_cut(raw, step_s);
-}
-
-estimate::MeasuredCut with_offset(const estimate::MeasuredCut& base, double offset_deg) {
-  estimate::MeasuredCut c = base;
-  c.theta1_rad.array() += offset_deg * kDegToRad;
-  return c;
-}
-
-std::vector<milling::CuttingCoefficients> simulator_coefficients(
-    const std::vector<estimate::ToothCoefficients>& k) {
-  std::vector<milling::CuttingCoefficients> out;
-  for (const auto& c : k) out.push_back(milling::cutting_coefficients(c.Kt_N_m2, c.Kr_N_m2));
-  return out;
-}
-
-double relative_change(double a, double b) {
-  return std::abs(a - b) / std::max(std::abs(b), 1e-300);
-}
-
-bool settled(const IdentificationPass& now, const IdentificationPass& before,
-             const EstimationOptions& o) {
-  double worst = std::max({relative_change(now.modal.m_kg, before.modal.m_kg),
-                           relative_change(now.modal.c_kg_s, before.modal.c_kg_s),
-                           relative_change(now.modal.k_N_m, before.modal.k_N_m)});
-  for (std::size_t p = 0; p < now.coefficients.size(); ++p) {
-    worst = std::max(
-        {worst, relative_change(now.coefficients[p].Kt_N_m2, before.coefficients[p].Kt_N_m2),
-         relative_change(now.coefficients[p].Kr_N_m2, before.coefficients[p].Kr_N_m2)});
-  }
-  double moved = std::abs(now.offset_after_deg - before.offset_after_deg);
-  moved = std::min(moved, 360.0 - moved);
-  return moved < o.offset_tolerance_deg && worst < o.parameter_tolerance;
-}
-
 std::string modal_text(const estimate::ModalParameters& m) {
   return "m " + fmt_sig(m.m_kg, 4) + " kg, c " + fmt_sig(m.c_kg_s, 4) + " kg/s, k " +
          fmt_sig(m.k_N_m, 4) + " N/m";
@@ -175,100 +48,20 @@ std::string coefficients_text(const std::vector<estimate::ToothCoefficients>& k)
   return s + " N/m^2";
 }
 
-// The operating point of 000 sec. 4.5 for the observability rank: the sample of the window with
-// the largest cutting force (a tooth cuts), deflections measured there, velocities by central
-// difference, parameters at the run's final estimates.
-struct OperatingSample {
-  Eigen::Index k = 0;
-  estimate::StepChips chips;
-  Eigen::Vector4d deflection = Eigen::Vector4d::Zero();
-};
-
-OperatingSample operating_sample(const estimate::MeasuredCut& cut, const estimate::CutSetup& s,
-                                 const std::vector<estimate::ToothCoefficients>& k) {
-  const estimate::CutChips chips(cut, s);
-  OperatingSample best;
-  double largest = -1.0;
-  for (Eigen::Index i = std::max<Eigen::Index>(chips.first_step(), 1); i + 1 < chips.samples();
-       ++i) {
-    const estimate::StepChips c = chips.chips(i);
-    const double f = estimate::cutting_force_N(c, k).norm();
-    if (f > largest) {
-      largest = f;
-      best.k = i;
-      best.chips = c;
-    }
-  }
-  const Eigen::Index i = best.k;
-  const double T = cut.time_step_s;
-  best.deflection << cut.x_m[i], (cut.x_m[i + 1] - cut.x_m[i - 1]) / (2 * T), cut.y_m[i],
-      (cut.y_m[i + 1] - cut.y_m[i - 1]) / (2 * T);
-  return best;
+std::vector<milling::CuttingCoefficients> simulator_coefficients(
+    const std::vector<estimate::ToothCoefficients>& k) {
+  std::vector<milling::CuttingCoefficients> out;
+  for (const auto& c : k) out.push_back(milling::cutting_coefficients(c.Kt_N_m2, c.Kr_N_m2));
+  return out;
 }
 
-void rank_variant(VariantOutcome& v, const OperatingSample& op,
+// The variant's observability rank at the operating sample (000 sec. 4.5, eq. 4.33).
+void rank_variant(VariantOutcome& v, const estimate::OperatingSample& op,
                   const std::vector<estimate::ToothCoefficients>& k,
                   const estimate::ModalParameters& identified, double T) {
-  using estimate::EstimatorId;
-  const estimate::EkfResult& r = v.run;
   try {
-    estimate::ForceInput u;
-    estimate::ModalParameters held = identified;
-    Eigen::VectorXd state;
-    const auto value = [&r](const char* key) { return r.value(key); };
-    switch (r.id) {
-      case EstimatorId::kModalX:
-        u.known_N = estimate::cutting_force_N(op.chips, k);
-        state.resize(5);
-        state << op.deflection[0], op.deflection[1], value("m_kg"), value("c_kg_s"), value("k_N_m");
-        break;
-      case EstimatorId::kModalXy:
-        u.known_N = estimate::cutting_force_N(op.chips, k);
-        state.resize(7);
-        state << op.deflection, value("m_kg"), value("c_kg_s"), value("k_N_m");
-        break;
-      case EstimatorId::kModalXyMk:
-        u.known_N = estimate::cutting_force_N(op.chips, k);
-        state.resize(6);
-        state << op.deflection, value("m_kg"), value("k_N_m");
-        break;
-      case EstimatorId::kModalXyMc:
-        u.known_N = estimate::cutting_force_N(op.chips, k);
-        state.resize(6);
-        state << op.deflection, value("m_kg"), value("c_kg_s");
-        break;
-      case EstimatorId::kCoeffXy:
-        for (int p = 0; p < op.chips.teeth; ++p) {
-          u.regressor_m2 +=
-              estimate::tooth_regressor_m2(op.chips.tooth[static_cast<std::size_t>(p)]);
-        }
-        state.resize(6);
-        state << op.deflection, value("Kt_N_m2"), value("Kr_N_m2");
-        break;
-      case EstimatorId::kCoeffXyPerTooth: {
-        // The filter of the tooth that cuts at the operating point (each filter has the same
-        // structure; its tooth's columns are the ones that can be zero).
-        int p = 0;
-        double bw = -1.0;
-        for (int q = 0; q < op.chips.teeth; ++q) {
-          if (op.chips.tooth[static_cast<std::size_t>(q)].bw_m2 > bw) {
-            bw = op.chips.tooth[static_cast<std::size_t>(q)].bw_m2;
-            p = q;
-          }
-        }
-        u.regressor_m2 = estimate::tooth_regressor_m2(op.chips.tooth[static_cast<std::size_t>(p)]);
-        std::vector<estimate::ToothCoefficients> others = k;
-        others[static_cast<std::size_t>(p)] = {0.0, 0.0};
-        u.known_N = estimate::cutting_force_N(op.chips, others);
-        state.resize(6);
-        const std::string n = std::to_string(p + 1);
-        state << op.deflection, r.value("Kt" + n + "_N_m2"), r.value("Kr" + n + "_N_m2");
-        break;
-      }
-    }
-    if (r.id == EstimatorId::kModalXyMk) held.c_kg_s = identified.c_kg_s;
-    if (r.id == EstimatorId::kModalXyMc) held.k_N_m = identified.k_N_m;
-    v.observability = estimate::observability(r.id, state, u, held, T);
+    const estimate::OperatingState s = estimate::operating_state(v.run, op, k, identified);
+    v.observability = estimate::observability(v.run.id, s.state, s.input, s.held, T);
     v.observability_status.succeed();
   } catch (const std::exception& e) {
     v.observability_status.fail(e.what());
@@ -297,45 +90,42 @@ void chip_excerpt(const estimate::MeasuredCut& cut, const estimate::CutSetup& s,
   }
 }
 
+// The ramped cut simulated with the identified values (000 table 5.1).
 SimulatedBifurcation simulate_ramp(const TestSpec& t, const milling::SimulationOptions& base,
                                    milling::ChipModel model, double noise_m) {
   SimulatedBifurcation s;
   s.chip_model = model == milling::ChipModel::kNumerical ? "numerical" : "traditional";
   try {
-    const sync::CutSchedule c = schedule_of(t);
     milling::SimulationOptions o = base;
     o.chip_model = model;
-    const double revolutions =
-        (c.cut_end_s - c.cut_start_s) * t.kind_spec<CutSpec>().spindle_rpm / 60.0;
-    o.depth = milling::DepthProfile::ramp(
-        c.depth_start_m, c.depth_end_m,
-        revolutions / (std::abs(c.depth_end_m - c.depth_start_m) * 1e3));
+    o.depth = sync::ramp_depth_profile(schedule_of(t), t.kind_spec<CutSpec>().spindle_rpm);
     const milling::SimulationResult sim = milling::simulate(o);
     s.steps = sim.steps;
     s.runtime_s = sim.runtime_s;
-    Eigen::Index done = 0;
-    while (done < sim.samples.x_m.size() && std::isfinite(sim.samples.x_m[done])) ++done;
     dynamics::BifurcationOptions bo;
     bo.measurement_noise_m = noise_m;
-    bo.ends_unbounded = !sim.summary.ok;
-    if (done <= bo.window_revolutions) {
-      s.status.fail("the simulated run stopped after " + std::to_string(done) +
+    const dynamics::SimulatedRunBifurcation b = dynamics::simulated_run_bifurcation(sim, bo);
+    if (!b.result) {
+      s.status.fail("the simulated run stopped after " + std::to_string(b.completed_revolutions) +
                     " revolutions: " + sim.summary.message);
       return s;
     }
-    const dynamics::BifurcationResult b = dynamics::detect_bifurcation(
-        sim.samples.depth_m.head(done), sim.samples.x_m.head(done), bo);
-    if (!b.summary.ok) {
-      s.status.fail(b.summary.message);
+    if (!b.result->summary.ok) {
+      s.status.fail(b.result->summary.message);
       return s;
     }
-    s.depth_m = b.bifurcation_depth_m;
-    s.verdict = b.verdict;
+    s.depth_m = b.result->bifurcation_depth_m;
+    s.verdict = b.result->verdict;
     s.status.succeed();
   } catch (const std::exception& e) {
     s.status.fail(e.what());
   }
   return s;
+}
+
+// Analysis errors about the test's own values, prefixed with its test.yaml.
+[[noreturn]] void rethrow_labelled(const TestSpec& t, const InputError& e) {
+  throw InputError(t.yaml_label + ": " + e.what());
 }
 
 }  // namespace
@@ -409,77 +199,52 @@ CutEstimation run_cut_estimation(const TestSpec& t, const CutStepInputs& in,
     const std::vector<estimate::ToothCoefficients> dyno_teeth(static_cast<std::size_t>(tool.teeth),
                                                               dyno);
 
-    std::vector<std::string> warnings;
-    out.window = choose_window(t, tool.teeth, measured_bifurcation, o, warnings);
-    const estimate::MeasuredCut base = measured_window(t, tach, tip, out.window, o.resample_step_s);
+    const sync::CutSchedule schedule = schedule_of(t);
+    estimate::MeasuredCut base;
+    try {
+      out.window =
+          estimate::choose_estimation_window(schedule, t.kind_spec<CutSpec>().spindle_rpm, tool.teeth,
+                                             t.kind_spec<CutSpec>().estimation_window_s, measured_bifurcation, o);
+      base = estimate::window_samples(tip.x_m, tip.y_m, sync::theta1_rad(tach, 0.0),
+                                      t.sample_rate_hz, schedule, out.window);
+    } catch (const InputError& e) {
+      rethrow_labelled(t, e);
+    }
+    base = estimate::resample_cut(base, o.resample_step_s);
+    std::vector<std::string> warnings = out.window.warnings;
     out.resampled_samples = base.x_m.size();
     const double t_first = std::ceil(out.window.start_s * t.sample_rate_hz) / t.sample_rate_hz;
 
     // Identification passes (000 sec. 5.1; docs/identification.md).
-    double offset_deg = initial_offset.search.offset_angle_deg;
-    estimate::ModalParameters known = hammer;
-    double held_c = hammer.c_kg_s;
-    estimate::ModalSequenceOptions one_pass;
-    one_pass.passes = 1;
-    for (int pass = 0; pass < o.max_passes; ++pass) {
-      const estimate::MeasuredCut cut = with_offset(base, offset_deg);
-      IdentificationPass p;
-      p.offset_deg = offset_deg;
-      const estimate::EkfResult coeff =
-          estimate::ekf_coeff_xy_per_tooth(cut, setup, {known, dyno_teeth}, o.coeff);
-      if (!coeff.summary.ok) {
-        out.summary.fail("identification pass " + std::to_string(pass + 1) +
-                         ": ekf-coeff-xy-per-tooth: " + coeff.summary.message);
-        return out;
-      }
-      for (int q = 1; q <= tool.teeth; ++q) {
-        const std::string n = std::to_string(q);
-        p.coefficients.push_back(
-            {coeff.value("Kt" + n + "_N_m2"), coeff.value("Kr" + n + "_N_m2")});
-      }
-      const estimate::ModalSequenceResult seq = estimate::modal_mk_then_mc(
-          cut, setup, {p.coefficients, {hammer.m_kg, held_c, hammer.k_N_m}}, o.modal, one_pass);
-      if (!seq.summary.ok) {
-        out.summary.fail("identification pass " + std::to_string(pass + 1) + ": " +
-                         seq.summary.message);
-        return out;
-      }
-      p.modal = seq.identified;
-      const milling::AxisModal axis{p.modal.m_kg, p.modal.c_kg_s, p.modal.k_N_m};
-      sync::OffsetAngleResult again = sync::find_offset_angle(
-          measured_mean, cut_model(t, tool, axis, axis, simulator_coefficients(p.coefficients)),
-          initial_offset.depth_m);
-      if (!again.summary.ok) {
-        out.summary.fail("identification pass " + std::to_string(pass + 1) +
-                         ": offset angle with the identified values: " + again.summary.message);
-        return out;
-      }
-      p.offset_after_deg = again.search.offset_angle_deg;
-      p.offset_relative_error = again.relative_error;
-      out.offset = std::move(again);
-      out.converged = !out.passes.empty() && settled(p, out.passes.back(), o);
-      out.passes.push_back(p);
-      known = p.modal;
-      held_c = p.modal.c_kg_s;
-      offset_deg = p.offset_after_deg;
-      if (out.converged) break;
+    estimate::IdentificationInputs ident;
+    ident.setup = setup;
+    ident.cut_model = cut_model(t, tool, {}, {}, {});
+    ident.initial_offset_deg = initial_offset.search.offset_angle_deg;
+    ident.offset_depth_m = initial_offset.depth_m;
+    ident.hammer = hammer;
+    ident.dynamometer = dyno;
+    estimate::IdentificationResult ir = estimate::identify_cut(base, measured_mean, ident, o);
+    out.passes = std::move(ir.passes);
+    out.converged = ir.converged;
+    out.offset = std::move(ir.offset);
+    if (!ir.summary.ok) {
+      out.summary.fail(ir.summary.message);
+      return out;
     }
-    const IdentificationPass& last = out.passes.back();
-    out.modal = last.modal;
-    out.coefficients = last.coefficients;
-    if (!out.converged && o.max_passes > 1) {
-      warnings.push_back("identification: not settled after " + std::to_string(o.max_passes) +
-                         " passes (offset and parameters still move by more than the tolerances)");
-    }
+    out.modal = ir.modal;
+    out.coefficients = ir.coefficients;
+    warnings.insert(warnings.end(), ir.summary.warnings.begin(), ir.summary.warnings.end());
     out.summary.succeed();
     out.summary.warnings = warnings;
 
     // Every variant on the final offset, the identified values known (steps 3 above).
-    const estimate::MeasuredCut cut = with_offset(base, out.offset.search.offset_angle_deg);
+    const estimate::MeasuredCut cut =
+        estimate::with_offset_angle(base, out.offset.search.offset_angle_deg);
     const std::vector<EstimatorId> ids = {EstimatorId::kModalX,    EstimatorId::kModalXy,
                                           EstimatorId::kModalXyMk, EstimatorId::kModalXyMc,
                                           EstimatorId::kCoeffXy,   EstimatorId::kCoeffXyPerTooth};
-    const OperatingSample op = operating_sample(cut, setup, out.coefficients);
+    const estimate::OperatingSample op =
+        estimate::largest_force_sample(cut, setup, out.coefficients);
     out.variants.resize(ids.size());
     parallel_for(ids.size(), jobs, [&](std::size_t i) {
       VariantOutcome& v = out.variants[i];

@@ -28,6 +28,8 @@
 #include "analysis/common/summary.h"
 #include "analysis/dynamics/bifurcation.h"
 #include "analysis/estimate/ekf_variants.h"
+#include "analysis/estimate/estimation_window.h"
+#include "analysis/estimate/identification.h"
 #include "analysis/estimate/modal_sequence.h"
 #include "analysis/estimate/observability.h"
 #include "analysis/estimate/repeatability.h"
@@ -40,20 +42,9 @@
 
 namespace chatterlab::app {
 
-// The estimation window (docs/identification.md, "Window").
-struct EstimationWindow {
-  double start_s = 0.0, end_s = 0.0;  // record time; the filters start one chip delay later
-  double depth_start_m = 0.0, depth_end_m = 0.0;
-  std::string rule;  // how it was chosen, for the report
-};
-
-struct IdentificationPass {
-  double offset_deg = 0.0;  // offset the pass ran with
-  std::vector<estimate::ToothCoefficients> coefficients;
-  estimate::ModalParameters modal;
-  double offset_after_deg = 0.0;  // offset found with this pass's values
-  double offset_relative_error = 0.0;
-};
+// The window rule and the identification passes are analysis/estimate's.
+using EstimationWindow = estimate::EstimationWindow;
+using IdentificationPass = estimate::IdentificationPass;
 
 struct VariantOutcome {
   estimate::EkfResult run;

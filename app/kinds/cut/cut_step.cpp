@@ -12,20 +12,6 @@
 namespace chatterlab::app {
 namespace {
 
-constexpr double kTwoPi = 6.283185307179586;
-
-// theta_1 unwrapped (increasing) from the tachometer phase and the offset angle.
-Eigen::VectorXd unwrapped_theta(const sync::TachAngle& tach, double offset_deg) {
-  Eigen::VectorXd th = sync::theta1_rad(tach, offset_deg);
-  double turns = 0;
-  for (Eigen::Index i = 1; i < th.size(); ++i) {
-    const double raw = th[i] + turns;
-    if (raw < th[i - 1] - M_PI) turns += kTwoPi;
-    th[i] += turns;
-  }
-  return th;
-}
-
 void run_offset(const TestSpec& t, const CutStepInputs& in, const sync::TipDeflection& tip,
                 CutOutcome& out) {
   if (!in.hammer_x || !in.coefficients || !in.tool) {
@@ -75,7 +61,7 @@ void run_offset(const TestSpec& t, const CutStepInputs& in, const sync::TipDefle
 
 void run_measured_bifurcation(const TestSpec& t, const sync::TipDeflection& tip, CutOutcome& out) {
   const double offset = out.offset_status.ok ? out.offset.search.offset_angle_deg : 0.0;
-  const Eigen::VectorXd theta = unwrapped_theta(out.tach, offset);
+  const Eigen::VectorXd theta = sync::theta1_unwrapped_rad(out.tach, offset);
   const dynamics::RevolutionCrossings c = dynamics::revolution_crossings(theta, 0.0);
   const Eigen::VectorXd x_all = dynamics::sample_at_crossings(c, tip.x_m);
   const double fs = t.sample_rate_hz;

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <complex>
 
+#include "analysis/common/constants.h"
 #include "analysis/frf/mode.h"
 #include "app/core/format.h"
 #include "app/core/yaml_reader.h"
@@ -15,8 +16,6 @@ namespace chatterlab::app {
 using nlohmann::json;
 
 namespace {
-
-constexpr double kRadToDeg = 57.29577951308232;
 
 // Appends a phase sample, breaking the line (NaN) where it wraps between +180 and -180 deg
 // so that a wrap draws no vertical stroke across the panel.
@@ -113,17 +112,6 @@ json tap_context(const TestOutcome& t, const std::string& figure) {
   return j;
 }
 
-// The tool mode of a tap test: the fitted mode with the largest peak receptance 1/(c wn)
-// (the most flexible one, which dominates the cut's deflection).
-const frf::Mode* dominant_mode(const std::vector<frf::Mode>& modes) {
-  const frf::Mode* best = nullptr;
-  for (const auto& m : modes) {
-    const double peak = 1.0 / (m.c_kg_s * 2 * M_PI * m.fn_hz);
-    if (!best || peak > 1.0 / (best->c_kg_s * 2 * M_PI * best->fn_hz)) best = &m;
-  }
-  return best;
-}
-
 std::string hammer_value(const TestSpec& t) {
   return t.kind_spec<TapSpec>().axis == "y" ? value::kHammerModeY : value::kHammerModeX;
 }
@@ -201,7 +189,8 @@ void TapKind::run(const TestSpec& t, const CampaignValues&, const RunContext&,
 void TapKind::publish(const TestOutcome& out, CampaignValues& values) const {
   const TapOutcome& tap = *out.result_as<TapOutcome>();
   const std::string id = out.spec->id;
-  const frf::Mode* m = tap.fit_ok ? dominant_mode(tap.modes) : nullptr;
+  // The tool mode: the fitted mode of largest peak receptance (frf::dominant_mode).
+  const std::optional<frf::Mode> m = tap.fit_ok ? frf::dominant_mode(tap.modes) : std::nullopt;
   if (m) {
     values.put(hammer_value(*out.spec), id, *m);
   } else {

@@ -29,7 +29,7 @@ const MeasuredCut& short_cut() {
 }
 
 template <class Model>
-ExtendedKalmanFilter<Model> make_filter(const Model& model) {
+ToolEkf<Model> make_filter(const Model& model) {
   const ModalEkfOptions mo;
   const CoeffEkfOptions co;
   typename Model::State x0 = Model::State::Zero();
@@ -65,7 +65,7 @@ ExtendedKalmanFilter<Model> make_filter(const Model& model) {
     q[Model::kKt + w0] = co.q_Kt;
     q[Model::kKr + w0] = co.q_Kr;
   }
-  return ExtendedKalmanFilter<Model>(model, x0, P0, q, Model::Measurement::Constant(mo.r_m2));
+  return make_tool_ekf(model, x0, P0, q, Model::Measurement::Constant(mo.r_m2));
 }
 
 template <class Model>
@@ -105,7 +105,7 @@ TYPED_TEST(FilterProperties, CovarianceStaysSymmetricPositiveSemidefinite) {
   const MeasuredCut& cut = short_cut();
   const CutChips chips(cut, CutSetup{});
   const Model model(cut.time_step_s, Discretization::kSymplecticEuler, testing::table52_modal());
-  ExtendedKalmanFilter<Model> f = make_filter(model);
+  ToolEkf<Model> f = make_filter(model);
   double smallest = 1.0;
   for (Eigen::Index k = chips.first_step(); k + 1 < chips.samples(); ++k) {
     f.predict(input_for<Model>(chips.chips(k)));
@@ -131,7 +131,7 @@ TYPED_TEST(FilterProperties, AStepAllocatesNothing) {
   const MeasuredCut& cut = short_cut();
   const CutChips chips(cut, CutSetup{});
   const Model model(cut.time_step_s, Discretization::kSymplecticEuler, testing::table52_modal());
-  ExtendedKalmanFilter<Model> f = make_filter(model);
+  ToolEkf<Model> f = make_filter(model);
   const std::vector<ToothCoefficients> K = testing::table52_coefficients();
   chatterlab::testing::g_allocations = 0;
   chatterlab::testing::g_counting = true;
@@ -144,26 +144,30 @@ TYPED_TEST(FilterProperties, AStepAllocatesNothing) {
       u.known_N = cutting_force_N(c, K);
     }
     f.predict(u);
-    f.update(measured<Model>(cut, k + 1), (k & 1) == 0);
+    if ((k & 1) == 0) {
+      f.update(measured<Model>(cut, k + 1));
+    } else {
+      f.update_consider(measured<Model>(cut, k + 1), parameter_states<Model>());
+    }
   }
   chatterlab::testing::g_counting = false;
   EXPECT_EQ(chatterlab::testing::g_allocations, 0);
 }
 
 TYPED_TEST(FilterProperties, ParameterHoldLeavesParametersAndTheirCovariance) {
-  // The Schmidt update (update_parameters = false) corrects deflections only; P's parameter
-  // block is what the prediction left.
+  // The Schmidt update (update_consider with the parameter states) corrects deflections only; P's
+  // parameter block is what the prediction left.
   using Model = TypeParam;
   const MeasuredCut& cut = short_cut();
   const CutChips chips(cut, CutSetup{});
   const Model model(cut.time_step_s, Discretization::kSymplecticEuler, testing::table52_modal());
-  ExtendedKalmanFilter<Model> f = make_filter(model);
+  ToolEkf<Model> f = make_filter(model);
   constexpr int P = Model::kParameters;
   for (Eigen::Index k = chips.first_step(); k < chips.first_step() + 3000; ++k) {
     f.predict(input_for<Model>(chips.chips(k)));
     const typename Model::State before = f.state();
     const typename Model::StateMatrix P_before = f.covariance();
-    f.update(measured<Model>(cut, k + 1), false);
+    f.update_consider(measured<Model>(cut, k + 1), parameter_states<Model>());
     ASSERT_TRUE((f.state().template tail<P>() == before.template tail<P>()));
     ASSERT_TRUE((f.covariance().template bottomRightCorner<P, P>() ==
                  P_before.template bottomRightCorner<P, P>()));
@@ -180,8 +184,8 @@ TEST(FilterUpdate, ScalarCaseMatchesTheKalmanFormulas) {
   P0.setIdentity();
   P0(0, 1) = P0(1, 0) = 0.3;
   P0(0, 4) = P0(4, 0) = -0.2;
-  ExtendedKalmanFilter<ModalXModel> f(model, x0, P0, ModalXModel::Noise::Zero(),
-                                      ModalXModel::Measurement::Constant(2.0));
+  ToolEkf<ModalXModel> f = make_tool_ekf(model, x0, P0, ModalXModel::Noise::Zero(),
+                                         ModalXModel::Measurement::Constant(2.0));
   f.update(ModalXModel::Measurement::Constant(4.0));
   const ModalXModel::State K = P0.col(0) / (P0(0, 0) + 2.0);
   EXPECT_LT((f.state() - (x0 + K * (4.0 - x0[0]))).norm(), 1e-12 * x0.norm());

@@ -66,6 +66,25 @@ TEST(TachAngle, ConstantSpeedPhaseIsThetaMinusOffsetEverywhere) {
   }
 }
 
+TEST(TachAngle, UnwrappedThetaIncreasesWithTheTrueAngle) {
+  // theta1_unwrapped_rad: theta_1 starting in [0, 2 pi) at sample 0 and rising by the true
+  // angle's increments across every wrap (ten revolutions at constant speed).
+  const double offset = 212.5 * kPi / 180.0;
+  Eigen::VectorXd theta;
+  const Eigen::VectorXd v =
+      constant_speed_tach(static_cast<Eigen::Index>(10.5 * kP), offset, &theta);
+  const TachAngle t = tach_angle(v, kFs, kRpm);
+  ASSERT_TRUE(t.summary.ok) << t.summary.message;
+  const Eigen::VectorXd u = theta1_unwrapped_rad(t, 212.5);
+  ASSERT_EQ(u.size(), v.size());
+  EXPECT_GE(u[0], 0.0);
+  EXPECT_LT(u[0], 2 * kPi);
+  EXPECT_LT(wrapped_distance(u[0], theta[0]), kExactRad);
+  for (Eigen::Index i = 1; i < u.size(); ++i) {
+    ASSERT_NEAR(u[i] - u[0], theta[i] - theta[0], kExactRad) << i;
+  }
+}
+
 TEST(TachAngle, FollowsThreePercentSpeedDrift) {
   // Speed rising linearly by 3 % over 30 revolutions: omega(i) = omega0 (1 + a i). Between two
   // edges the phase is interpolated linearly, so its error is the chord error of a parabola:

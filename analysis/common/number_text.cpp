@@ -1,0 +1,20 @@
+#include "analysis/common/number_text.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace chatterlab {
+
+std::string significant_text(double v, int digits) {
+  if (!std::isfinite(v)) return "n/a";
+  char buf[64];
+  const double a = std::abs(v);
+  if (a != 0 && (a < 1e-3 || a >= 1e6)) {
+    std::snprintf(buf, sizeof(buf), "%.*e", digits - 1, v);
+  } else {
+    std::snprintf(buf, sizeof(buf), "%.*g", digits, v);
+  }
+  return buf;
+}
+
+}  // namespace chatterlab

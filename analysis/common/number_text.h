@@ -1,0 +1,12 @@
+// Numbers in messages and rule texts (the report shows them; results.json keeps full precision).
+#pragma once
+
+#include <string>
+
+namespace chatterlab {
+
+// `digits` significant digits: printf %.*g within 1e-3 <= |v| < 1e6 (and for 0), %.*e outside;
+// a NaN or infinity gives "n/a". The same text as the report's numbers (app/format.h fmt_sig).
+std::string significant_text(double v, int digits = 4);
+
+}  // namespace chatterlab

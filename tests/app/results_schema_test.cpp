@@ -1,0 +1,256 @@
+// results.json against its published schema (docs/results.schema.json,
+// docs/format/results-json.md): the chatterlab binary writes a small synthetic campaign holding
+// every implemented kind (tap, dyno-slot, constant and ramped cut) and a test of a contract kind
+// the program does not analyse yet, reports it, and the report's results.json must validate with
+// Debian's python3-jsonschema (tests/support/validate_json_schema.py). A second run of the same
+// campaign without its tap tests and with one dyno-slot record covers the skipped branches (offset,
+// identification, group). Then the schema must have teeth: copies of the file with a required key
+// removed, a wrong type, a value outside an enum or a number under a key without a unit must each
+// fail.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "tests/support/record_property.h"
+#include "tests/support/temp_campaign.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using chatterlab::testing::TempDir;
+using nlohmann::json;
+
+// Tap tests on x (with a bounced hit) and y, a three-feed dyno-slot group, a constant-depth cut
+// and a short incline that crosses the bifurcation (measured near 2.3 mm): the demo campaign
+// (experiments/demo.synth.yaml) cut down to what runs in a few seconds.
+const char* kSpec =
+    "format: chatterlab-synth/1\n"
+    "name: schema-check\n"
+    "seed: 7\n"
+    "tool: {teeth: 2, radius_mm: 6.35}\n"
+    "tap:\n"
+    "  sample_rate_hz: 12800\n"
+    "  hits: 3\n"
+    "  hit_spacing_s: 0.5\n"
+    "  axes:\n"
+    "    x: {modes: [{m_kg: 0.03211, c_kg_s: 13.39, k_N_m: 1.023e6}], double_hit: 2}\n"
+    "    y: {modes: [{m_kg: 0.03211, c_kg_s: 13.39, k_N_m: 1.023e6}]}\n"
+    "dyno:\n"
+    "  spindle_rpm: 600\n"
+    "  axial_depth_mm: 1.0\n"
+    "  feeds_mm: [0.05, 0.10, 0.15]\n"
+    "  sample_rate_hz: 20000\n"
+    "  duration_s: 0.5\n"
+    "  theta_dyn_deg: 20\n"
+    "  noise_N: 2.0\n"
+    "  coefficients: {Ktc_N_m2: 5.89e8, Kte_N_m: 9080, Krc_N_m2: 3.19e8, Kre_N_m: 11300}\n"
+    "cut:\n"
+    "  sample_rate_hz: 100000\n"
+    "  spindle_rpm: 15000\n"
+    "  feed_per_tooth_mm: 0.0635\n"
+    "  radial_immersion_mm: 0.382\n"
+    "  modal: {m_kg: 0.03134, c_kg_s: 22.21, k_N_m: 9.84e5}\n"
+    "  coefficients: {Kt_N_m2: [2.483e8, 6.641e9], Kr_N_m2: [2.196e8, 4.154e9]}\n"
+    "  air_revolutions: 10\n"
+    "  tests:\n"
+    "    - {name: constant, axial_depth_mm: 1.0, duration_s: 0.1, offset_angle_deg: 147.0}\n"
+    "    - {name: incline, axial_depth_mm: [1.5, 3.0], revolutions_per_mm: 300,\n"
+    "       offset_angle_deg: 212.5}\n";
+
+// One identification pass over 0.02 s and two repeatability runs: every results.json block of
+// a cut test, at a fraction of the default cost (docs/format/campaign.md, estimation).
+const char* kEstimation =
+    "estimation: {window_s: 0.02, max_passes: 1, repeat_runs: 2, settle_revolutions: 5}\n";
+
+// A kind of the contract's section 4, which this version skips as unknown.
+const char* kDynoFrfTest =
+    "kind: dyno-frf\naxis: x\nsample_rate_hz: 51200\ndata: {file: hits.csv}\norder: 6\n";
+
+std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Runs `command` with stdout and stderr into `log`; returns its exit status.
+int run(const std::string& command, const fs::path& log) {
+  const int rc = std::system((command + " > " + quoted(log) + " 2>&1").c_str());
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+struct Validation {
+  int exit_status = -1;
+  std::string output;
+  // "valid" or "invalid" per instance file, and the error lines that follow an invalid one.
+  std::map<std::string, std::string> verdict;
+  std::map<std::string, std::string> errors;
+};
+
+Validation validate(const std::vector<fs::path>& instances) {
+  const fs::path source(CHATTERLAB_SOURCE_DIR);
+  std::string cmd = "/usr/bin/python3 " + quoted(source / "tests/support/validate_json_schema.py") +
+                    " " + quoted(source / "docs/results.schema.json");
+  for (const auto& p : instances) cmd += " " + quoted(p);
+  Validation v;
+  FILE* pipe = ::popen((cmd + " 2>&1").c_str(), "r");
+  if (!pipe) return v;
+  char buf[4096];
+  while (std::fgets(buf, sizeof buf, pipe)) v.output += buf;
+  const int rc = ::pclose(pipe);
+  v.exit_status = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  std::istringstream lines(v.output);
+  std::string line, current;
+  while (std::getline(lines, line)) {
+    if (line.rfind("  at ", 0) == 0) {
+      v.errors[current] += line + "\n";
+      continue;
+    }
+    const auto colon = line.rfind(": ");
+    if (colon == std::string::npos) continue;
+    current = line.substr(0, colon);
+    v.verdict[current] = line.substr(colon + 2);
+  }
+  return v;
+}
+
+void write_json(const fs::path& p, const json& j) { std::ofstream(p) << j.dump(2) << "\n"; }
+
+TEST(ResultsSchema, ReportOfASynthCampaignValidatesAndBrokenCopiesFail) {
+  const auto t0 = std::chrono::steady_clock::now();
+  TempDir d;
+  const fs::path bin(CHATTERLAB_BINARY);
+  const fs::path spec = d.write("spec.yaml", kSpec);
+  const fs::path campaign = d.path() / "campaign";
+  const fs::path out = d.path() / "report";
+  const fs::path log = d.path() / "log.txt";
+  ASSERT_EQ(run(quoted(bin) + " synth " + quoted(spec) + " --out " + quoted(campaign), log), 0)
+      << read_text(log);
+  std::ofstream(campaign / "campaign.yaml", std::ios::app) << kEstimation;
+  d.write("campaign/dynamometer/x/test.yaml", kDynoFrfTest);
+  d.write("campaign/dynamometer/x/hits.csv", "hammer,dyno\n0,0\n1,0.5\n");
+  ASSERT_EQ(
+      run(quoted(bin) + " report " + quoted(campaign) + " --out " + quoted(out) + " --no-pdf", log),
+      0)
+      << read_text(log);
+
+  // The same campaign without tap tests and with one dyno-slot record: the cut tests' offset
+  // and identification steps and the dyno-slot group are skipped with their reasons.
+  const fs::path sparse = d.path() / "sparse";
+  const fs::path sparse_out = d.path() / "sparse-report";
+  fs::copy(campaign, sparse, fs::copy_options::recursive);
+  fs::remove_all(sparse / "tap");
+  fs::remove_all(sparse / "dyno/f100");
+  fs::remove_all(sparse / "dyno/f150");
+  ASSERT_EQ(
+      run(quoted(bin) + " report " + quoted(sparse) + " --out " + quoted(sparse_out) + " --no-pdf",
+          log),
+      0)
+      << read_text(log);
+
+  const fs::path results = out / "results.json";
+  const fs::path sparse_results = sparse_out / "results.json";
+  json r;
+  json s;
+  {
+    std::ifstream in(results);
+    r = json::parse(in);
+    std::ifstream in2(sparse_results);
+    s = json::parse(in2);
+  }
+
+  // The runs cover what the schema describes; otherwise "valid" would say little.
+  const json& tests = r["tests"];
+  for (const char* id : {"tap/x", "tap/y", "dyno/f050", "cuts/constant", "cuts/incline"}) {
+    ASSERT_TRUE(tests.contains(id)) << id;
+    EXPECT_EQ(tests[id]["status"], "ok") << id << ": " << tests[id].dump();
+  }
+  EXPECT_EQ(tests["dynamometer/x"]["status"], "skipped");
+  EXPECT_NE(tests["dynamometer/x"]["skip_reason"].get<std::string>().find(
+                "'dyno-frf' is not a known test kind"),
+            std::string::npos);
+  EXPECT_TRUE(r["groups"]["dyno-slot"].contains("Ktc_N_m2"));
+  EXPECT_EQ(r["identified_from"], "cuts/constant");
+  EXPECT_FALSE(r["truth_comparison"].empty());
+  EXPECT_EQ(tests["cuts/constant"]["estimators"].size(), 6u);
+  EXPECT_TRUE(tests["cuts/incline"]["bifurcation_depth_mm"].is_number());
+  EXPECT_TRUE(tests["cuts/incline"].contains("simulated_identified"));
+  EXPECT_TRUE(tests["cuts/constant"]["estimators"]["ekf-modal-x"].contains("repeatability"));
+  EXPECT_EQ(s["groups"]["dyno-slot"]["status"], "skipped");
+  EXPECT_EQ(s["tests"]["cuts/constant"]["offset_status"], "skipped");
+  EXPECT_EQ(s["tests"]["cuts/constant"]["identification_status"], "skipped");
+  EXPECT_TRUE(s["identified"].empty());
+
+  // Broken copies, each of which the schema must reject, with the JSON pointer it names.
+  struct Breakage {
+    const char* name;
+    const char* pointer;  // where the validator must report it
+    std::function<void(json&)> apply;
+  };
+  const std::vector<Breakage> breakages = {
+      {"required key removed", "at /: 'format' is a required property",
+       [](json& j) { j.erase("format"); }},
+      {"group key removed", "at /groups/dyno-slot: 'Ktc_N_m2' is a required property",
+       [](json& j) { j["groups"]["dyno-slot"].erase("Ktc_N_m2"); }},
+      {"estimate key removed", "at /tests/cuts~1constant/estimators/ekf-modal-x/estimates:",
+       [](json& j) {
+         j["tests"]["cuts/constant"]["estimators"]["ekf-modal-x"]["estimates"].erase("k_N_m");
+       }},
+      {"number as text", "at /tests/tap~1x/modes/0/fn_hz:",
+       [](json& j) { j["tests"]["tap/x"]["modes"][0]["fn_hz"] = "898.3"; }},
+      {"depth as text", "at /tests/cuts~1incline/bifurcation_depth_mm:",
+       [](json& j) { j["tests"]["cuts/incline"]["bifurcation_depth_mm"] = "2.3"; }},
+      {"status outside its enum", "at /tests/cuts~1constant/status:",
+       [](json& j) { j["tests"]["cuts/constant"]["status"] = "done"; }},
+      {"number under a key without a unit", "at /tests/dyno~1f050/duration:",
+       [](json& j) { j["tests"]["dyno/f050"]["duration"] = 0.5; }},
+      {"unit dropped from a key", "at /tests/tap~1x/modes/0: 'fn_hz' is a required property",
+       [](json& j) {
+         json& m = j["tests"]["tap/x"]["modes"][0];
+         m["fn"] = m["fn_hz"];
+         m.erase("fn_hz");
+       }},
+      {"skipped test without its reason", "at /tests/dynamometer~1x: 'skip_reason'",
+       [](json& j) { j["tests"]["dynamometer/x"].erase("skip_reason"); }},
+      {"hash that is not one", "at /inputs_sha256/campaign.yaml:",
+       [](json& j) { j["inputs_sha256"]["campaign.yaml"] = "abc"; }},
+  };
+  std::vector<fs::path> files = {results, sparse_results};
+  for (std::size_t i = 0; i < breakages.size(); ++i) {
+    json broken = r;
+    breakages[i].apply(broken);
+    files.push_back(d.path() / ("broken-" + std::to_string(i) + ".json"));
+    write_json(files.back(), broken);
+  }
+
+  Validation v = validate(files);
+  ASSERT_NE(v.exit_status, 3) << v.output;  // python3-jsonschema missing
+  ASSERT_NE(v.exit_status, 2) << v.output;  // schema not valid under its draft's meta-schema
+  EXPECT_EQ(v.exit_status, 1) << v.output;  // the broken copies
+  EXPECT_EQ(v.verdict.at(results.string()), "valid") << v.errors[results.string()];
+  EXPECT_EQ(v.verdict.at(sparse_results.string()), "valid") << v.errors[sparse_results.string()];
+  for (std::size_t i = 0; i < breakages.size(); ++i) {
+    const std::string f = files[i + 2].string();
+    EXPECT_EQ(v.verdict.at(f), "invalid") << breakages[i].name;
+    EXPECT_NE(v.errors[f].find(breakages[i].pointer), std::string::npos)
+        << breakages[i].name << ": expected '" << breakages[i].pointer << "' in\n"
+        << v.errors[f];
+  }
+  chatterlab::testing::record_and_print(
+      "runtime_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+}
+
+}  // namespace
