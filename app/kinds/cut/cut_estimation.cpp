@@ -240,9 +240,7 @@ CutEstimation run_cut_estimation(const TestSpec& t, const CutStepInputs& in,
     // Every variant on the final offset, the identified values known (steps 3 above).
     const estimate::MeasuredCut cut =
         estimate::with_offset_angle(base, out.offset.search.offset_angle_deg);
-    const std::vector<EstimatorId> ids = {EstimatorId::kModalX,    EstimatorId::kModalXy,
-                                          EstimatorId::kModalXyMk, EstimatorId::kModalXyMc,
-                                          EstimatorId::kCoeffXy,   EstimatorId::kCoeffXyPerTooth};
+    constexpr auto ids = estimate::all_estimators();  // the estimator table's order
     const estimate::OperatingSample op =
         estimate::largest_force_sample(cut, setup, out.coefficients);
     out.variants.resize(ids.size());

@@ -97,6 +97,8 @@ json variant_rows(const CutEstimation& e) {
                   {"final", key_value(est.key, est.value)},
                   {"spread", spread},
                   {"rank", rank},
+                  {"nis", fmt_sig(run.nis.mean, 3) + " [" + fmt_sig(run.nis.mean_band.lower, 3) +
+                              ", " + fmt_sig(run.nis.mean_band.upper, 3) + "]"},
                   {"steps", steps},
                   {"runtime_s", fmt_sig(run.runtime_s, 3)}};
       if (k == 0 && !rep.summary.ok && rep.summary.message != "not run") {

@@ -27,6 +27,17 @@ json identified_json(const CutEstimation& e) {
   return j;
 }
 
+// Consistency of one filter's innovations (analysis/kalman/consistency.h).
+json nis_json(const kalman::NisSummary& n) {
+  return {{"updates", n.updates},
+          {"dof", n.dof},
+          {"mean", number_or_null(n.mean)},
+          {"mean_band", {n.mean_band.lower, n.mean_band.upper}},
+          {"mean_inside_band", n.mean_inside()},
+          {"fraction_inside", number_or_null(n.fraction_inside)},
+          {"confidence", n.confidence}};
+}
+
 json variant_json(const VariantOutcome& v) {
   const estimate::EkfResult& r = v.run;
   json j;
@@ -48,6 +59,12 @@ json variant_json(const VariantOutcome& v) {
   j["time_step_s"] = r.time_step_s;
   j["steps_per_s"] = r.runtime_s > 0 ? json(static_cast<double>(r.steps * r.filters) / r.runtime_s)
                                      : json(nullptr);
+  j["nis"] = nis_json(r.nis);
+  if (r.nis_per_filter.size() > 1) {
+    json per = json::array();
+    for (const auto& n : r.nis_per_filter) per.push_back(nis_json(n));
+    j["nis_per_filter"] = per;
+  }
   j["known"] = v.known;
   j["start"] = v.start;
   if (v.observability_status.ok) {
