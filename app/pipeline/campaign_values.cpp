@@ -4,15 +4,6 @@
 
 namespace chatterlab::app {
 
-std::string value::describe(const std::string& name) {
-  if (name == kHammerModeX || name == kHammerModeY) {
-    return "the hammer-test mode of " + name.substr(name.size() - 1);
-  }
-  if (name == kDynoSlotRecord) return "a dyno-slot record";
-  if (name == kCuttingCoefficients) return "the dynamometer cutting coefficients";
-  return "'" + name + "'";
-}
-
 void CampaignValues::insert(const std::string& name, Entry e) {
   auto& list = entries_[name];
   const auto at =
@@ -29,9 +20,10 @@ bool CampaignValues::has_entry(const std::string& name, const std::string& provi
                      [&](const Entry& e) { return e.provider == provider; });
 }
 
-std::string CampaignValues::why_missing(const std::string& name) const {
+std::string CampaignValues::why_missing(const std::string& name,
+                                        const std::string& description) const {
   const auto it = entries_.find(name);
-  const std::string what = value::describe(name);
+  const std::string what = description.empty() ? "'" + name + "'" : description;
   if (it == entries_.end() || it->second.empty()) {
     return "needs " + what + ", which no test of the campaign provides";
   }

@@ -1,4 +1,5 @@
-// Values that tests and group products provide to others, by name: the hammer-test mode of each
+// Values that tests and group products provide to others, by name (each provider kind declares
+// its names and their types in its own header, e.g. value::kHammerModeX in tap_kind.h): the hammer-test mode of each
 // axis, the dynamometer cutting coefficients, a dynamometer or spindle FRF model, a sensor
 // calibration, identified values. A value may have several providers (two tap tests of one
 // axis); readers take them in provider order (test id order), so results do not depend on
@@ -15,15 +16,6 @@
 
 namespace chatterlab::app {
 
-// Value names used by the built-in kinds.
-namespace value {
-inline const std::string kHammerModeX = "hammer-mode/x";  // frf::Mode, tap tests of axis x
-inline const std::string kHammerModeY = "hammer-mode/y";
-inline const std::string kDynoSlotRecord = "dyno-slot/record";           // DynoRecordValue
-inline const std::string kCuttingCoefficients = "cutting-coefficients";  // dyno-slot group
-// "hammer-mode/x" -> "the hammer-test mode of x" (for messages).
-std::string describe(const std::string& name);
-}  // namespace value
 
 class CampaignValues {
  public:
@@ -72,8 +64,9 @@ class CampaignValues {
   bool has_entry(const std::string& name, const std::string& provider) const;
   // Why `name` has no value: "needs <description> from <provider>, which was skipped: <why>"
   // for the first failed provider, or "needs <description>, which no test of the campaign
-  // provides". Empty when a provider succeeded.
-  std::string why_missing(const std::string& name) const;
+  // provides". Empty when a provider succeeded. `description` says what the value is ("the
+  // hammer-test mode of x"); empty: the name in quotes.
+  std::string why_missing(const std::string& name, const std::string& description = "") const;
 
  private:
   void insert(const std::string& name, Entry e);

@@ -87,6 +87,9 @@ class TestKind {
 
   virtual std::vector<Need> needs(const TestSpec&) const { return {}; }
   virtual std::vector<std::string> provides(const TestSpec&) const { return {}; }
+  // What a value this kind provides is, for messages ("the hammer-test mode of x"); empty for
+  // names it does not provide.
+  virtual std::string describe_value(const std::string&) const { return ""; }
 
   // The step. Bad input throws InputError (the test is skipped with the message); any other
   // exception is an internal error. Sets out.status and out.result; a failed step leaves
@@ -129,6 +132,7 @@ class GroupProduct {
   virtual bool applies(const CampaignSpec&) const = 0;
   virtual std::vector<Need> needs(const CampaignSpec&) const = 0;
   virtual std::vector<std::string> provides(const CampaignSpec&) const = 0;
+  virtual std::string describe_value(const std::string&) const { return ""; }
 
   // Sets out.status, out.result and out.members. Same error rules as TestKind::run.
   virtual void run(const CampaignValues& in, const RunContext&, GroupOutcome& out) const = 0;

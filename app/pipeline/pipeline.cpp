@@ -90,10 +90,11 @@ void guarded(Outcome& out, Step&& step) {
 }
 
 // The first required value that is missing, as the skip reason; empty when all are there.
-std::string missing_input(const std::vector<Need>& needs, const CampaignValues& values) {
+std::string missing_input(const std::vector<Need>& needs, const CampaignValues& values,
+                          const KindRegistry& kinds) {
   for (const auto& n : needs) {
     if (!n.required) continue;
-    const std::string why = values.why_missing(n.value);
+    const std::string why = values.why_missing(n.value, kinds.describe_value(n.value));
     if (!why.empty()) return why;
   }
   return "";
@@ -112,7 +113,7 @@ void run_test_node(const Node& n, CampaignResults& r, int inner_jobs) {
   const auto t0 = std::chrono::steady_clock::now();
   const TestSpec& spec = r.campaign.tests[n.test];
   TestOutcome& out = r.tests[n.test];
-  const std::string missing = missing_input(n.needs, r.values);
+  const std::string missing = missing_input(n.needs, r.values, *r.kinds);
   if (!missing.empty()) {
     out.status.fail(missing);
     out.failure = Failure::kInput;
@@ -129,7 +130,7 @@ void run_test_node(const Node& n, CampaignResults& r, int inner_jobs) {
 
 void run_group_node(const Node& n, GroupOutcome& out, CampaignResults& r, int inner_jobs) {
   const auto t0 = std::chrono::steady_clock::now();
-  const std::string missing = missing_input(n.needs, r.values);
+  const std::string missing = missing_input(n.needs, r.values, *r.kinds);
   if (!missing.empty()) {
     out.status.fail(missing);
     out.failure = Failure::kInput;

@@ -34,6 +34,16 @@ const GroupProduct* KindRegistry::find_group(const std::string& name) const {
   return nullptr;
 }
 
+std::string KindRegistry::describe_value(const std::string& name) const {
+  for (const auto& k : kinds_) {
+    if (auto d = k->describe_value(name); !d.empty()) return d;
+  }
+  for (const auto& g : groups_) {
+    if (auto d = g->describe_value(name); !d.empty()) return d;
+  }
+  return "";
+}
+
 std::string KindRegistry::names() const {
   std::string s;
   for (const auto& k : kinds_) s += (s.empty() ? "" : ", ") + k->name();

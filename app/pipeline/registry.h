@@ -27,6 +27,8 @@ class KindRegistry {
     const GroupProduct* group = nullptr;
   };
   const std::vector<Entry>& in_order() const { return order_; }
+  // What value `name` is, from the kind or group that provides it ("" when none says).
+  std::string describe_value(const std::string& name) const;
   // "tap, dyno-slot, cut": for messages.
   std::string names() const;
 

@@ -8,6 +8,8 @@
 
 #include "app/kinds/cut/cut_spec.h"
 #include "app/kinds/cut/cut_step.h"
+#include "app/kinds/dyno_slot/dyno_slot_kind.h"
+#include "app/kinds/tap/tap_kind.h"
 #include "app/pipeline/kind.h"
 #include "app/pipeline/pipeline.h"
 #include "render/figure.h"

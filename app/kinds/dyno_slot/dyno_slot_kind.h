@@ -11,6 +11,12 @@
 
 namespace chatterlab::app {
 
+namespace value {
+inline const std::string kDynoSlotRecord = "dyno-slot/record";  // DynoRecordOutcome, per test
+// milling::CuttingCoefficients (Ktc, Kte, Krc, Kre) from the group's line fit.
+inline const std::string kCuttingCoefficients = "cutting-coefficients";
+}  // namespace value
+
 // test.yaml keys of a dyno-slot test.
 struct DynoSlotSpec : KindSpec {
   double spindle_rpm = 0.0;
@@ -42,6 +48,9 @@ class DynoSlotKind : public TestKind {
     return {"Fx", "Fy", "zero"};
   }
   std::vector<std::string> provides(const TestSpec&) const override;
+  std::string describe_value(const std::string& name) const override {
+    return name == value::kDynoSlotRecord ? "a dyno-slot record" : "";
+  }
   void run(const TestSpec& t, const CampaignValues& in, const RunContext& ctx,
            TestOutcome& out) const override;
   void publish(const TestOutcome& out, CampaignValues& values) const override;
@@ -61,6 +70,9 @@ class DynoSlotGroup : public GroupProduct {
   bool applies(const CampaignSpec& c) const override;
   std::vector<Need> needs(const CampaignSpec&) const override;
   std::vector<std::string> provides(const CampaignSpec&) const override;
+  std::string describe_value(const std::string& name) const override {
+    return name == value::kCuttingCoefficients ? "the dynamometer cutting coefficients" : "";
+  }
   void run(const CampaignValues& in, const RunContext& ctx, GroupOutcome& out) const override;
   void publish(const GroupOutcome& out, CampaignValues& values) const override;
   nlohmann::json results(const GroupOutcome& out) const override;

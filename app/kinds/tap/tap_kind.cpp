@@ -174,6 +174,12 @@ std::shared_ptr<const KindSpec> TapKind::parse(const YAML::Node& root, YamlReade
 
 std::vector<std::string> TapKind::provides(const TestSpec& t) const { return {hammer_value(t)}; }
 
+std::string TapKind::describe_value(const std::string& name) const {
+  if (name == value::kHammerModeX) return "the hammer-test mode of x";
+  if (name == value::kHammerModeY) return "the hammer-test mode of y";
+  return "";
+}
+
 void TapKind::run(const TestSpec& t, const CampaignValues&, const RunContext&,
                   TestOutcome& out) const {
   auto tap = std::make_unique<TapOutcome>(run_tap_test(t, options_));

@@ -8,6 +8,12 @@
 
 namespace chatterlab::app {
 
+namespace value {
+// frf::Mode: the mode of largest peak receptance of the first tap test (by id) of each axis.
+inline const std::string kHammerModeX = "hammer-mode/x";
+inline const std::string kHammerModeY = "hammer-mode/y";
+}  // namespace value
+
 class TapKind : public TestKind {
  public:
   explicit TapKind(TapStepOptions options = {}) : options_(std::move(options)) {}
@@ -19,6 +25,7 @@ class TapKind : public TestKind {
     return {"force", "response"};
   }
   std::vector<std::string> provides(const TestSpec& t) const override;
+  std::string describe_value(const std::string& name) const override;
   void run(const TestSpec& t, const CampaignValues& in, const RunContext& ctx,
            TestOutcome& out) const override;
   void publish(const TestOutcome& out, CampaignValues& values) const override;
