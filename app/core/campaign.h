@@ -6,9 +6,10 @@
 #include <map>
 #include <memory>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "analysis/common/check.h"
 
 namespace chatterlab::app {
 
@@ -59,11 +60,11 @@ struct TestSpec {
   ChannelSpec channel(const std::string& name) const;
 
   // The kind's keys as its own type. A spec of another type is a broken invariant (the kind
-  // asked for another kind's keys): std::logic_error, an internal error.
+  // asked for another kind's keys): an InvariantError, an internal error.
   template <class T>
   const T& kind_spec() const {
     const T* p = dynamic_cast<const T*>(params.get());
-    if (!p) throw std::logic_error(yaml_label + ": the test's keys are not of kind " + kind);
+    CHATTERLAB_CHECK(p != nullptr, yaml_label + ": the test's keys are not of kind " + kind);
     return *p;
   }
 };

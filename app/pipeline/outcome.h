@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/common/check.h"
 #include "analysis/common/summary.h"
 #include "app/core/campaign.h"
 
@@ -33,6 +34,16 @@ struct TestOutcome {
   const T* result_as() const {
     return dynamic_cast<const T*>(result.get());
   }
+  // The kind's result, which must exist and be of type T (a kind reads its own results only
+  // of tests whose status is ok): anything else is a broken invariant.
+  template <class T>
+  const T& result_of() const {
+    const T* r = result_as<T>();
+    CHATTERLAB_CHECK(r != nullptr,
+                     (spec ? spec->id : std::string("?")) +
+                         ": no result of the expected type (status: " + status.message + ")");
+    return *r;
+  }
 };
 
 struct GroupOutcome {
@@ -46,6 +57,12 @@ struct GroupOutcome {
   template <class T>
   const T* result_as() const {
     return dynamic_cast<const T*>(result.get());
+  }
+  template <class T>
+  const T& result_of() const {
+    const T* r = result_as<T>();
+    CHATTERLAB_CHECK(r != nullptr, "group " + name + ": no result of the expected type");
+    return *r;
   }
 };
 

@@ -96,9 +96,9 @@ FigureSet draw_figures(const CampaignResults& r, const std::filesystem::path& ou
 }  // namespace
 
 int run_report(const std::filesystem::path& campaign_dir, const std::filesystem::path& out,
-               const ReportOptions& options, std::ostream& log) {
+               const ReportOptions& options, std::ostream& log, const KindRegistry& kinds) {
   const auto t0 = std::chrono::steady_clock::now();
-  CampaignSpec spec = load_campaign(campaign_dir);
+  CampaignSpec spec = load_campaign(campaign_dir, kinds);
   if (!std::filesystem::exists(spec.root / "campaign.yaml") ||
       !std::filesystem::is_directory(spec.root)) {
     for (const auto& e : spec.errors) log << "chatterlab report: " << e << "\n";
@@ -106,7 +106,7 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
   }
   PipelineOptions popt;
   popt.jobs = options.jobs;
-  CampaignResults r = run_campaign(std::move(spec), popt);
+  CampaignResults r = run_campaign(std::move(spec), popt, kinds);
   const TruthComparison truth = compare_with_truth(r);
 
   std::filesystem::create_directories(out / "figures");

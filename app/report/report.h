@@ -18,6 +18,7 @@ struct ReportOptions {
 // 1 when the campaign could not be read at all or the PDF could not be written, 3 when a test
 // or group stopped on an internal error (the report is written and names it).
 int run_report(const std::filesystem::path& campaign, const std::filesystem::path& out,
-               const ReportOptions& options, std::ostream& log);
+               const ReportOptions& options, std::ostream& log,
+               const KindRegistry& kinds = builtin_kinds());
 
 }  // namespace chatterlab::app

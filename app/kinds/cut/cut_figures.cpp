@@ -226,7 +226,7 @@ render::Figure chip_thickness_figure(const CutEstimation& e) {
 }
 
 void CutKind::figures(const CampaignResults& r, const TestOutcome& t, FigureJobs& jobs) const {
-  const CutOutcome& c = *t.result_as<CutOutcome>();
+  const CutOutcome& c = t.result_of<CutOutcome>();
   const std::string& id = t.spec->id;
   const std::string stem = figure_stem("cut", id);
   jobs.add(id, "processing", stem + "processing", cut_processing_figure(c));

@@ -133,7 +133,7 @@ json bifurcation_comparison(const CutOutcome& c) {
 }
 
 json cut_context(const CampaignResults& r, const TestOutcome& t, const FigureSet& figures) {
-  const CutOutcome& c = *t.result_as<CutOutcome>();
+  const CutOutcome& c = t.result_of<CutOutcome>();
   const CutSpec& spec = t.spec->kind_spec<CutSpec>();
   json j;
   j["id"] = t.spec->id;
@@ -245,7 +245,7 @@ json estimators_context(const CampaignResults& r) {
   json rows = json::array(), bifurcations = json::array();
   for (const auto& t : r.tests) {
     if (!t.status.ok || t.spec->kind != "cut") continue;
-    const CutOutcome& c = *t.result_as<CutOutcome>();
+    const CutOutcome& c = t.result_of<CutOutcome>();
     if (c.ramped) {
       json b = bifurcation_comparison(c);
       b["id"] = t.spec->id;
@@ -267,7 +267,7 @@ json estimators_context(const CampaignResults& r) {
   j["bifurcations"] = bifurcations;
   if (const TestOutcome* src = identification_source(r)) {
     j["identified_from"] = src->spec->id;
-    j["identified"] = identified_rows(src->result_as<CutOutcome>()->estimation);
+    j["identified"] = identified_rows(src->result_of<CutOutcome>().estimation);
   }
   return j;
 }
@@ -275,7 +275,7 @@ json estimators_context(const CampaignResults& r) {
 }  // namespace
 
 std::string CutKind::note(const TestOutcome& t) const {
-  const CutOutcome& c = *t.result_as<CutOutcome>();
+  const CutOutcome& c = t.result_of<CutOutcome>();
   std::string s = c.offset_status.ok
                       ? "offset " + fmt_fixed(c.offset.search.offset_angle_deg, 2) + " deg"
                       : std::string("offset not determined");

@@ -197,12 +197,12 @@ json cut_json(const CutOutcome& c) {
 
 }  // namespace
 
-json CutKind::results(const TestOutcome& t) const { return cut_json(*t.result_as<CutOutcome>()); }
+json CutKind::results(const TestOutcome& t) const { return cut_json(t.result_of<CutOutcome>()); }
 
 // The identification of one cut test (docs/identification.md, "Campaign values").
 void CutKind::campaign_results(const CampaignResults& r, json& root) const {
   if (const TestOutcome* src = identification_source(r)) {
-    root["identified"] = identified_json(src->result_as<CutOutcome>()->estimation);
+    root["identified"] = identified_json(src->result_of<CutOutcome>().estimation);
     root["identified_from"] = src->spec->id;
   } else {
     root["identified"] = json::object();

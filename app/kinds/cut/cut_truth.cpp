@@ -85,7 +85,7 @@ std::map<std::string, ReferenceValue> reference_values(const CampaignResults& r,
 }
 
 void CutKind::compare_truth(const TruthInput& in, const TestOutcome& t, TruthComparison& c) const {
-  const CutOutcome& cut = *t.result_as<CutOutcome>();
+  const CutOutcome& cut = t.result_of<CutOutcome>();
   if (!cut.offset_status.ok) return;
   const YAML::Node& root = *in.root;
   const YAML::Node& v = *in.entry;

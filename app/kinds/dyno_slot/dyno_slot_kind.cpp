@@ -168,19 +168,18 @@ void DynoSlotKind::run(const TestSpec& t, const CampaignValues&, const RunContex
 }
 
 void DynoSlotKind::publish(const TestOutcome& out, CampaignValues& values) const {
-  values.put(value::kDynoSlotRecord, out.spec->id, *out.result_as<DynoRecordOutcome>());
+  values.put(value::kDynoSlotRecord, out.spec->id, out.result_of<DynoRecordOutcome>());
 }
 
 json DynoSlotKind::results(const TestOutcome& out) const {
-  return dyno_json(*out.result_as<DynoRecordOutcome>());
+  return dyno_json(out.result_of<DynoRecordOutcome>());
 }
 
 json DynoSlotKind::settings(const CampaignSpec&) const { return options_json(options_); }
 
 std::string DynoSlotKind::note(const TestOutcome& out) const {
   return "theta_dyn " +
-         fmt_fixed(out.result_as<DynoRecordOutcome>()->result.theta_dyn_rad * kRadToDeg, 2) +
-         " deg";
+         fmt_fixed(out.result_of<DynoRecordOutcome>().result.theta_dyn_rad * kRadToDeg, 2) + " deg";
 }
 
 bool DynoSlotGroup::applies(const CampaignSpec& c) const {
@@ -236,7 +235,7 @@ void DynoSlotGroup::run(const CampaignValues& in, const RunContext& ctx, GroupOu
 
 void DynoSlotGroup::publish(const GroupOutcome& out, CampaignValues& values) const {
   values.put(value::kCuttingCoefficients, "group:" + name(),
-             out.result_as<DynoGroupResult>()->fit.coefficients);
+             out.result_of<DynoGroupResult>().fit.coefficients);
 }
 
 json DynoSlotGroup::results(const GroupOutcome& out) const {
@@ -266,7 +265,7 @@ void DynoSlotGroup::figures(const CampaignResults&, const GroupOutcome& out,
                             FigureJobs& jobs) const {
   if (!out.status.ok) return;
   jobs.add("group:" + name(), "force", "figures/dyno-force-vs-feed",
-           dyno_force_figure(*out.result_as<DynoGroupResult>()));
+           dyno_force_figure(out.result_of<DynoGroupResult>()));
 }
 
 json DynoSlotGroup::report_section(const CampaignResults& r, const GroupOutcome& out,

@@ -67,7 +67,7 @@ json tap_json(const TapOutcome& t) {
 }
 
 json tap_context(const TestOutcome& t, const std::string& figure) {
-  const TapOutcome& tap = *t.result_as<TapOutcome>();
+  const TapOutcome& tap = t.result_of<TapOutcome>();
   const TapSpec& spec = t.spec->kind_spec<TapSpec>();
   json j;
   j["id"] = t.spec->id;
@@ -193,7 +193,7 @@ void TapKind::run(const TestSpec& t, const CampaignValues&, const RunContext&,
 }
 
 void TapKind::publish(const TestOutcome& out, CampaignValues& values) const {
-  const TapOutcome& tap = *out.result_as<TapOutcome>();
+  const TapOutcome& tap = out.result_of<TapOutcome>();
   const std::string id = out.spec->id;
   // The tool mode: the fitted mode of largest peak receptance (frf::dominant_mode).
   const std::optional<frf::Mode> m = tap.fit_ok ? frf::dominant_mode(tap.modes) : std::nullopt;
@@ -205,7 +205,7 @@ void TapKind::publish(const TestOutcome& out, CampaignValues& values) const {
 }
 
 json TapKind::results(const TestOutcome& out) const {
-  return tap_json(*out.result_as<TapOutcome>());
+  return tap_json(out.result_of<TapOutcome>());
 }
 
 json TapKind::settings(const CampaignSpec&) const {
@@ -241,14 +241,14 @@ json TapKind::settings(const CampaignSpec&) const {
 }
 
 std::string TapKind::note(const TestOutcome& out) const {
-  const TapOutcome& tap = *out.result_as<TapOutcome>();
+  const TapOutcome& tap = out.result_of<TapOutcome>();
   if (!tap.fit_ok) return "FRF only; fit failed";
   return std::to_string(tap.modes.size()) + " mode(s), first at " +
          fmt_sig(tap.modes.front().fn_hz, 4) + " Hz";
 }
 
 void TapKind::figures(const CampaignResults&, const TestOutcome& out, FigureJobs& jobs) const {
-  const TapOutcome& tap = *out.result_as<TapOutcome>();
+  const TapOutcome& tap = out.result_of<TapOutcome>();
   if (tap.f_hz.size() < 2) return;
   const std::string stem = figure_stem("tap", out.spec->id);
   jobs.add(out.spec->id, "frf", stem + "frf", tap_frf_figure(tap));
@@ -266,7 +266,7 @@ json TapKind::report_section(const CampaignResults&, const std::vector<const Tes
 // Tap test: the truth's modes matched to the fitted mode nearest in frequency.
 void TapKind::compare_truth(const TruthInput& in, const TestOutcome& out,
                             TruthComparison& c) const {
-  const TapOutcome& tap = *out.result_as<TapOutcome>();
+  const TapOutcome& tap = out.result_of<TapOutcome>();
   const YAML::Node& v = *in.entry;
   if (!tap.fit_ok || !v["modes"]) return;
   const std::string key = out.spec->id;
