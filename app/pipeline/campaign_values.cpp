@@ -28,7 +28,7 @@ std::string CampaignValues::why_missing(const std::string& name,
     return "needs " + what + ", which no test of the campaign provides";
   }
   for (const auto& e : it->second) {
-    if (e.ok) return "";
+    if (e.has_value) return "";
   }
   const Entry& e = it->second.front();
   return "needs " + what + " from " + e.provider + ", which was skipped: " + e.why;

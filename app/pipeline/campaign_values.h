@@ -21,7 +21,7 @@ class CampaignValues {
  public:
   struct Entry {
     std::string provider;  // test id or "group:<name>"
-    bool ok = false;
+    bool has_value = false;  // false: the provider failed (why)
     std::string why;  // the provider's failure when !ok
     std::any value;
   };
@@ -43,7 +43,7 @@ class CampaignValues {
     const auto it = entries_.find(name);
     if (it == entries_.end()) return nullptr;
     for (const auto& e : it->second) {
-      if (!e.ok) continue;
+      if (!e.has_value) continue;
       if (provider) *provider = e.provider;
       return std::any_cast<T>(&e.value);
     }
@@ -56,7 +56,7 @@ class CampaignValues {
     const auto it = entries_.find(name);
     if (it == entries_.end()) return out;
     for (const auto& e : it->second) {
-      if (e.ok) out.emplace_back(e.provider, std::any_cast<T>(&e.value));
+      if (e.has_value) out.emplace_back(e.provider, std::any_cast<T>(&e.value));
     }
     return out;
   }
