@@ -1,8 +1,8 @@
 // Values that tests and group products provide to others, by name (each provider kind declares
-// its names and their types in its own header, e.g. value::kHammerModeX in tap_kind.h): the hammer-test mode of each
-// axis, the dynamometer cutting coefficients, a dynamometer or spindle FRF model, a sensor
-// calibration, identified values. A value may have several providers (two tap tests of one
-// axis); readers take them in provider order (test id order), so results do not depend on
+// its names and their types in its own header, e.g. value::kHammerModeX in tap_kind.h): the
+// hammer-test mode of each axis, the dynamometer cutting coefficients, a dynamometer or spindle FRF
+// model, a sensor calibration, identified values. A value may have several providers (two tap tests
+// of one axis); readers take them in provider order (test id order), so results do not depend on
 // which thread finished first. A provider whose step failed is recorded too, so a consumer
 // can say why the value is missing.
 #pragma once
@@ -16,13 +16,12 @@
 
 namespace chatterlab::app {
 
-
 class CampaignValues {
  public:
   struct Entry {
-    std::string provider;  // test id or "group:<name>"
+    std::string provider;    // test id or "group:<name>"
     bool has_value = false;  // false: the provider failed (why)
-    std::string why;  // the provider's failure when !ok
+    std::string why;         // the provider's failure when !ok
     std::any value;
   };
 

@@ -22,9 +22,9 @@ struct KindResult {
 // invariant (the report and the exit code say so distinctly).
 enum class Failure { kNone, kInput, kInternal };
 
-struct TestOutcome {
-  const TestSpec* spec = nullptr;  // points into CampaignResults::campaign.tests
-  StepSummary status;              // not run, ok, or failed with its message
+// What a test's or a group's step left.
+struct Outcome {
+  StepSummary status;  // not run, ok, or failed with its message
   Failure failure = Failure::kNone;
   std::vector<std::string> warnings;
   double runtime_s = 0;
@@ -35,35 +35,35 @@ struct TestOutcome {
     return dynamic_cast<const T*>(result.get());
   }
   // The kind's result, which must exist and be of type T (a kind reads its own results only
-  // of tests whose status is ok): anything else is a broken invariant.
+  // of steps whose status is ok): anything else is a broken invariant.
   template <class T>
   const T& result_of() const {
     const T* r = result_as<T>();
     CHATTERLAB_CHECK(r != nullptr,
-                     (spec ? spec->id : std::string("?")) +
-                         ": no result of the expected type (status: " + status.message + ")");
+                     "no result of the expected type (status: " + status.message + ")");
     return *r;
+  }
+  // Takes a step's result whose own summary and warnings decide the status (TapOutcome,
+  // CutOutcome: R has `summary` and `warnings`).
+  template <class R>
+  void adopt(std::unique_ptr<R> r) {
+    warnings.insert(warnings.end(), r->warnings.begin(), r->warnings.end());
+    if (r->summary.ok) {
+      status.succeed();
+    } else {
+      status.fail(r->summary.message);
+    }
+    result = std::move(r);
   }
 };
 
-struct GroupOutcome {
-  std::string name;  // GroupProduct::name()
-  StepSummary status;
-  Failure failure = Failure::kNone;
-  std::vector<std::string> members;  // test ids whose values it used
-  double runtime_s = 0;
-  std::unique_ptr<KindResult> result;
+struct TestOutcome : Outcome {
+  const TestSpec* spec = nullptr;  // points into CampaignResults::campaign.tests
+};
 
-  template <class T>
-  const T* result_as() const {
-    return dynamic_cast<const T*>(result.get());
-  }
-  template <class T>
-  const T& result_of() const {
-    const T* r = result_as<T>();
-    CHATTERLAB_CHECK(r != nullptr, "group " + name + ": no result of the expected type");
-    return *r;
-  }
+struct GroupOutcome : Outcome {
+  std::string name;                  // GroupProduct::name()
+  std::vector<std::string> members;  // test ids whose values it used
 };
 
 }  // namespace chatterlab::app

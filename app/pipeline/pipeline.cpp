@@ -109,36 +109,19 @@ void record_unprovided(const Node& n, const StepSummary& status, CampaignValues&
   }
 }
 
-void run_test_node(const Node& n, CampaignResults& r, int inner_jobs) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const TestSpec& spec = r.campaign.tests[n.test];
-  TestOutcome& out = r.tests[n.test];
-  const std::string missing = missing_input(n.needs, r.values, *r.kinds);
-  if (!missing.empty()) {
-    out.status.fail(missing);
-    out.failure = Failure::kInput;
-  } else {
-    const RunContext ctx{&r.campaign, inner_jobs};
-    guarded(out, [&] { n.kind->run(spec, r.values, ctx, out); });
-  }
-  if (out.status.ok) {
-    guarded(out, [&] { n.kind->publish(out, r.values); });
-  }
-  record_unprovided(n, out.status, r.values);
-  out.runtime_s = seconds_since(t0);
-}
-
-void run_group_node(const Node& n, GroupOutcome& out, CampaignResults& r, int inner_jobs) {
+// One node: skipped with the reason when a required value is missing, else its step and,
+// when that succeeded, its publication; exceptions become the outcome's status (guarded).
+template <class Outcome, class Run, class Publish>
+void run_node(const Node& n, Outcome& out, CampaignResults& r, Run&& run, Publish&& publish) {
   const auto t0 = std::chrono::steady_clock::now();
   const std::string missing = missing_input(n.needs, r.values, *r.kinds);
   if (!missing.empty()) {
     out.status.fail(missing);
     out.failure = Failure::kInput;
   } else {
-    const RunContext ctx{&r.campaign, inner_jobs};
-    guarded(out, [&] { n.group->run(r.values, ctx, out); });
+    guarded(out, run);
   }
-  if (out.status.ok) guarded(out, [&] { n.group->publish(out, r.values); });
+  if (out.status.ok) guarded(out, publish);
   record_unprovided(n, out.status, r.values);
   out.runtime_s = seconds_since(t0);
 }
@@ -223,7 +206,9 @@ CampaignResults run_campaign(CampaignSpec campaign, const PipelineOptions& optio
     }
   }
   for (const auto& n : nodes) {
-    if (n.group) r.groups.push_back(GroupOutcome{n.group->name(), {}, Failure::kNone, {}, 0, {}});
+    if (!n.group) continue;
+    r.groups.emplace_back();
+    r.groups.back().name = n.group->name();
   }
   int depth = 0;
   for (const auto& n : nodes) depth = std::max(depth, n.level + 1);
@@ -241,14 +226,18 @@ CampaignResults run_campaign(CampaignSpec campaign, const PipelineOptions& optio
     const int inner = std::max(1, threads / std::max(1, static_cast<int>(now.size())));
     parallel_for(now.size(), options.jobs, [&](std::size_t k) {
       const Node& n = *now[k];
+      const RunContext ctx{&r.campaign, inner};
       if (n.group) {
-        GroupOutcome* g = nullptr;
-        for (auto& go : r.groups) {
-          if (go.name == n.group->name()) g = &go;
-        }
-        run_group_node(n, *g, r, inner);
+        GroupOutcome& out = *std::find_if(r.groups.begin(), r.groups.end(),
+                                          [&](const auto& g) { return g.name == n.group->name(); });
+        run_node(
+            n, out, r, [&] { n.group->run(r.values, ctx, out); },
+            [&] { n.group->publish(out, r.values); });
       } else {
-        run_test_node(n, r, inner);
+        TestOutcome& out = r.tests[n.test];
+        run_node(
+            n, out, r, [&] { n.kind->run(r.campaign.tests[n.test], r.values, ctx, out); },
+            [&] { n.kind->publish(out, r.values); });
       }
     });
   }

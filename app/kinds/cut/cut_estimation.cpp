@@ -202,9 +202,9 @@ CutEstimation run_cut_estimation(const TestSpec& t, const CutStepInputs& in,
     const sync::CutSchedule schedule = schedule_of(t);
     estimate::MeasuredCut base;
     try {
-      out.window =
-          estimate::choose_estimation_window(schedule, t.kind_spec<CutSpec>().spindle_rpm, tool.teeth,
-                                             t.kind_spec<CutSpec>().estimation_window_s, measured_bifurcation, o);
+      out.window = estimate::choose_estimation_window(
+          schedule, t.kind_spec<CutSpec>().spindle_rpm, tool.teeth,
+          t.kind_spec<CutSpec>().estimation_window_s, measured_bifurcation, o);
       base = estimate::window_samples(tip.x_m, tip.y_m, sync::theta1_rad(tach, 0.0),
                                       t.sample_rate_hz, schedule, out.window);
     } catch (const InputError& e) {

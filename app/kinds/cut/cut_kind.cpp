@@ -169,15 +169,8 @@ void CutKind::run(const TestSpec& t, const CampaignValues& values, const RunCont
   options.estimation = estimation_options(*ctx.campaign);
   options.estimation_errors = ctx.campaign->errors_of_block("estimation");
   options.jobs = ctx.jobs;
-  auto c =
-      std::make_unique<CutOutcome>(run_cut_test(t, cut_inputs(*ctx.campaign, values), options));
-  out.warnings.insert(out.warnings.end(), c->warnings.begin(), c->warnings.end());
-  if (c->summary.ok) {
-    out.status.succeed();
-  } else {
-    out.status.fail(c->summary.message);
-  }
-  out.result = std::move(c);
+  out.adopt(
+      std::make_unique<CutOutcome>(run_cut_test(t, cut_inputs(*ctx.campaign, values), options)));
 }
 
 // Every estimation setting in force (campaign.yaml `estimation:` or the defaults), with the

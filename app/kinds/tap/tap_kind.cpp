@@ -182,14 +182,7 @@ std::string TapKind::describe_value(const std::string& name) const {
 
 void TapKind::run(const TestSpec& t, const CampaignValues&, const RunContext&,
                   TestOutcome& out) const {
-  auto tap = std::make_unique<TapOutcome>(run_tap_test(t, options_));
-  out.warnings.insert(out.warnings.end(), tap->warnings.begin(), tap->warnings.end());
-  if (tap->summary.ok) {
-    out.status.succeed();
-  } else {
-    out.status.fail(tap->summary.message);
-  }
-  out.result = std::move(tap);
+  out.adopt(std::make_unique<TapOutcome>(run_tap_test(t, options_)));
 }
 
 void TapKind::publish(const TestOutcome& out, CampaignValues& values) const {
