@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "analysis/common/cutting_coefficients.h"
 #include "analysis/dynamics/noise_level.h"
 #include "analysis/dynamics/revolution_sampling.h"
 #include "analysis/milling/simulation_options.h"
@@ -24,12 +25,9 @@ void run_offset(const TestSpec& t, const CutStepInputs& in, const sync::TipDefle
   const frf::Mode& my = in.hammer_y ? *in.hammer_y : *in.hammer_x;
   // The dyno coefficients for every tooth, without edge terms (000 sec. 5.1 uses Kt, Kr).
   const milling::SimulationOptions o =
-      cut_model(t, *in.tool, {in.hammer_x->m_kg, in.hammer_x->c_kg_s, in.hammer_x->k_N_m},
-                {my.m_kg, my.c_kg_s, my.k_N_m},
-                std::vector<milling::CuttingCoefficients>(
-                    static_cast<std::size_t>(in.tool->teeth),
-                    milling::cutting_coefficients(in.coefficients->Ktc_N_per_m2,
-                                                  in.coefficients->Krc_N_per_m2)));
+      cut_model(t, *in.tool, *in.hammer_x, my,
+                std::vector<CuttingCoefficients>(static_cast<std::size_t>(in.tool->teeth),
+                                                 without_edge_terms(*in.coefficients)));
   sync::CutSchedule schedule{t.cut->cut_window_s.first, t.cut->cut_window_s.second,
                              t.cut->axial_depth_m.first, t.cut->axial_depth_m.second};
   // Constant depth: the last settled revolutions. Ramp: revolutions around 1 mm or the middle

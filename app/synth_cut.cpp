@@ -5,6 +5,7 @@
 #include <random>
 
 #include "analysis/common/constants.h"
+#include "analysis/common/modal_parameters.h"
 #include "analysis/common/summary.h"
 #include "analysis/milling/simulation_options.h"
 #include "analysis/sync/cut_synth.h"
@@ -12,8 +13,6 @@
 
 namespace chatterlab::app {
 namespace {
-
-constexpr double kMm = 1e-3;
 
 std::string num(double v) {
   std::ostringstream s;
@@ -51,9 +50,10 @@ CutSynthSpec read_cut_synth(const YAML::Node& n, YamlReader& r) {
   s.fs_hz = r.optional_double(n, "sample_rate_hz", p).value_or(s.fs_hz);
   s.spindle_rpm = r.optional_double(n, "spindle_rpm", p).value_or(s.spindle_rpm);
   s.feed_per_tooth_m =
-      r.optional_double(n, "feed_per_tooth_mm", p).value_or(s.feed_per_tooth_m / kMm) * kMm;
+      r.optional_double(n, "feed_per_tooth_mm", p).value_or(s.feed_per_tooth_m / kMmToM) * kMmToM;
   s.radial_immersion_m =
-      r.optional_double(n, "radial_immersion_mm", p).value_or(s.radial_immersion_m / kMm) * kMm;
+      r.optional_double(n, "radial_immersion_mm", p).value_or(s.radial_immersion_m / kMmToM) *
+      kMmToM;
   s.operation = r.optional_string(n, "operation", p).value_or(s.operation);
   if (s.operation != "up-milling" && s.operation != "down-milling") {
     r.error("cut.operation", "must be up-milling or down-milling");
@@ -103,8 +103,8 @@ CutSynthSpec read_cut_synth(const YAML::Node& n, YamlReader& r) {
     if (!depth) {
       r.error(tp + ".axial_depth_mm", "is missing");
     } else {
-      c.depth_start_m = depth->first * kMm;
-      c.depth_end_m = depth->second * kMm;
+      c.depth_start_m = depth->first * kMmToM;
+      c.depth_end_m = depth->second * kMmToM;
     }
     c.revolutions_per_mm = r.optional_double(t, "revolutions_per_mm", tp);
     c.duration_s = r.optional_double(t, "duration_s", tp);
@@ -136,7 +136,7 @@ int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint
   milling::SimulationOptions o;
   o.teeth = teeth;
   o.radius_m = radius_m;
-  o.modal_x = {s.modal.m_kg, s.modal.c_kg_s, s.modal.k_N_m};
+  o.modal_x = modal_parameters_of(s.modal);
   for (int p = 0; p < teeth; ++p) {
     o.coefficients.push_back(milling::cutting_coefficients(s.Kt_N_m2[static_cast<std::size_t>(p)],
                                                            s.Kr_N_m2[static_cast<std::size_t>(p)]));
@@ -190,12 +190,12 @@ int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint
     write_signals(dir / "signals.f32", {"x", "y", "tach"}, {&xv, &yv, &rec.tach_V});
     std::ofstream y(dir / "test.yaml");
     y << "kind: cut\noperation: " << s.operation << "\nspindle_rpm: " << num(s.spindle_rpm)
-      << "\nfeed_per_tooth_mm: " << num(s.feed_per_tooth_m / kMm)
-      << "\nradial_immersion_mm: " << num(s.radial_immersion_m / kMm) << "\naxial_depth_mm: ";
+      << "\nfeed_per_tooth_mm: " << num(s.feed_per_tooth_m / kMmToM)
+      << "\nradial_immersion_mm: " << num(s.radial_immersion_m / kMmToM) << "\naxial_depth_mm: ";
     if (ramp) {
-      y << "[" << num(c.depth_start_m / kMm) << ", " << num(rec.depth_end_m / kMm) << "]\n";
+      y << "[" << num(c.depth_start_m / kMmToM) << ", " << num(rec.depth_end_m / kMmToM) << "]\n";
     } else {
-      y << num(c.depth_start_m / kMm) << "\n";
+      y << num(c.depth_start_m / kMmToM) << "\n";
     }
     y << "cut_window_s: [" << num(rec.cut_start_s) << ", " << num(rec.cut_end_s) << "]\n"
       << "air_window_s: [0.0, " << num(rec.air_end_s) << "]\n"

@@ -40,11 +40,8 @@ inline std::vector<estimate::ToothCoefficients> dissertation_start_coefficients(
 inline milling::SimulationOptions cut_options(const estimate::ModalParameters& m,
                                               const std::vector<estimate::ToothCoefficients>& k) {
   milling::SimulationOptions o;
-  o.modal_x = {m.m_kg, m.c_kg_s, m.k_N_m};
-  o.coefficients.clear();
-  for (const estimate::ToothCoefficients& c : k) {
-    o.coefficients.push_back(milling::cutting_coefficients(c.Kt_N_m2, c.Kr_N_m2));
-  }
+  o.modal_x = modal_parameters_of(m);
+  o.coefficients = k;
   return o;
 }
 inline milling::SimulationOptions table52_incline1() {
