@@ -5,6 +5,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "analysis/common/constants.h"
+#include "analysis/common/modal_parameters.h"
 #include "analysis/common/summary.h"
 #include "analysis/dynamics/bifurcation.h"
 #include "analysis/dynamics/poincare.h"
@@ -24,10 +26,6 @@ using nlohmann::json;
 
 namespace {
 
-constexpr double kRadToDeg = 57.29577951308232;
-constexpr double kUm = 1e6;  // m -> um
-constexpr double kMmPerM = 1e3;
-
 std::vector<double> to_std(const Eigen::VectorXd& v, double scale) {
   std::vector<double> out(static_cast<std::size_t>(v.size()));
   for (Eigen::Index i = 0; i < v.size(); ++i) out[static_cast<std::size_t>(i)] = v[i] * scale;
@@ -41,12 +39,12 @@ render::Figure revolution_figure(const milling::RevolutionRecord& r, int teeth, 
   const std::vector<double> angle = to_std(r.theta1_rad, kRadToDeg);
   render::Axes& d = fig.panels.emplace_back();
   d.y_label = "deflection [um]";
-  d.series.emplace_back(angle, to_std(r.x_m, kUm), "x");
-  d.series.emplace_back(angle, to_std(r.y_m, kUm), "y");
+  d.series.emplace_back(angle, to_std(r.x_m, kMToUm), "x");
+  d.series.emplace_back(angle, to_std(r.y_m, kMToUm), "y");
   render::Axes& c = fig.panels.emplace_back();
   c.y_label = "chip thickness [um]";
   for (int p = 0; p < teeth; ++p) {
-    c.series.emplace_back(angle, to_std(r.chip_m.col(p), kUm), "tooth " + std::to_string(p + 1));
+    c.series.emplace_back(angle, to_std(r.chip_m.col(p), kMToUm), "tooth " + std::to_string(p + 1));
   }
   render::Axes& f = fig.panels.emplace_back();
   f.y_label = "force [N]";
@@ -80,7 +78,7 @@ render::Figure overlay_figure(const milling::CompactTrace& t, int steps_per_revo
   a.x_range = render::Range{0, 360};
   a.series.push_back(
       render::Series::density(std::move(angle), std::move(x_um), "every revolution", "#0072B2"));
-  a.series.emplace_back(to_std(t.angle_rad, kRadToDeg), to_std(t.mean_x_m, kUm), "mean",
+  a.series.emplace_back(to_std(t.angle_rad, kRadToDeg), to_std(t.mean_x_m, kMToUm), "mean",
                         render::SeriesStyle::kLine, "#000000");
   return fig;
 }
@@ -91,8 +89,8 @@ milling::SimulationOptions simulation_options(const SimulationSpec& s) {
   milling::SimulationOptions o;
   o.teeth = s.teeth;
   o.radius_m = s.radius_m;
-  o.modal_x = {s.x.m_kg, s.x.c_kg_s, s.x.k_N_m};
-  o.modal_y = milling::AxisModal{s.y.m_kg, s.y.c_kg_s, s.y.k_N_m};
+  o.modal_x = modal_parameters_of(s.x);
+  o.modal_y = modal_parameters_of(s.y);
   for (std::size_t p = 0; p < s.Kt_N_m2.size(); ++p) {
     o.coefficients.push_back(milling::cutting_coefficients(s.Kt_N_m2[p], s.Kr_N_m2.at(p)));
   }
@@ -175,13 +173,13 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
       warnings.push_back("bifurcation detection failed: " + bif->summary.message);
     } else if (bif) {
       results["bifurcation_depth_mm"] =
-          bif->bifurcation_depth_m ? json(*bif->bifurcation_depth_m * kMmPerM) : json(nullptr);
+          bif->bifurcation_depth_m ? json(*bif->bifurcation_depth_m * kMToMm) : json(nullptr);
       results["depth_profile"] = dynamics::to_string(bif->profile);
       results["verdict"] = dynamics::to_string(bif->verdict);
       json islands = json::array();
       for (const auto& is : bif->islands) {
-        islands.push_back({{"onset_depth_mm", is.onset_depth_m * kMmPerM},
-                           {"end_depth_mm", is.end_depth_m * kMmPerM}});
+        islands.push_back({{"onset_depth_mm", is.onset_depth_m * kMToMm},
+                           {"end_depth_mm", is.end_depth_m * kMToMm}});
       }
       results["chatter_islands"] = islands;
       results["noise_floor_m"] = bif->noise_floor_m;
@@ -199,9 +197,9 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
         }
         const auto cls =
             dynamics::classify_orbit(m, bif && bif->summary.ok ? bif->noise_floor_m : 1e-9);
-        pj.push_back({{"depth_mm", m.requested_depth_m * kMmPerM},
-                      {"first_depth_mm", m.first_depth_m * kMmPerM},
-                      {"last_depth_mm", m.last_depth_m * kMmPerM},
+        pj.push_back({{"depth_mm", m.requested_depth_m * kMToMm},
+                      {"first_depth_mm", m.first_depth_m * kMToMm},
+                      {"last_depth_mm", m.last_depth_m * kMToMm},
                       {"orbit", dynamics::to_string(cls.shape)},
                       {"points_m", pts}});
       }
@@ -267,7 +265,7 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
   ctx["spec_file"] = spec_file.string();
   ctx["spec_sha256"] = results["spec_sha256"];
   ctx["tool"] =
-      std::to_string(spec.teeth) + " teeth, radius " + fmt_sig(spec.radius_m * kMmPerM, 4) + " mm";
+      std::to_string(spec.teeth) + " teeth, radius " + fmt_sig(spec.radius_m * kMToMm, 4) + " mm";
   ctx["modal"] =
       "x: m = " + fmt_sig(spec.x.m_kg, 4) + " kg, c = " + fmt_sig(spec.x.c_kg_s, 4) +
       " kg/s, k = " + fmt_sig(spec.x.k_N_m, 4) + " N/m; y: m = " + fmt_sig(spec.y.m_kg, 4) +
@@ -280,10 +278,10 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
   }
   ctx["coefficients"] = k;
   ctx["cut"] = spec.operation + ", " + fmt_sig(spec.spindle_rpm, 5) + " rpm, feed " +
-               fmt_sig(spec.feed_per_tooth_m * kMmPerM, 4) + " mm/tooth, radial immersion " +
-               fmt_sig(spec.radial_immersion_m * kMmPerM, 4) + " mm, depth " +
-               fmt_sig(spec.depth_start_m * kMmPerM, 3) + " to " +
-               fmt_sig(grid.depth_end_m * kMmPerM, 3) + " mm over " +
+               fmt_sig(spec.feed_per_tooth_m * kMToMm, 4) + " mm/tooth, radial immersion " +
+               fmt_sig(spec.radial_immersion_m * kMToMm, 4) + " mm, depth " +
+               fmt_sig(spec.depth_start_m * kMToMm, 3) + " to " +
+               fmt_sig(grid.depth_end_m * kMToMm, 3) + " mm over " +
                std::to_string(grid.revolutions) + " revolutions";
   ctx["model"] = spec.chip_model + " chip thickness (" + spec.switching +
                  " switching), symplectic Euler (" + spec.euler_order + ") at " +
@@ -292,12 +290,12 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
   std::string bif_text = "n/a";
   if (bif && bif->summary.ok) {
     bif_text = bif->bifurcation_depth_m
-                   ? fmt_fixed(*bif->bifurcation_depth_m * kMmPerM, 2) + " mm"
+                   ? fmt_fixed(*bif->bifurcation_depth_m * kMToMm, 2) + " mm"
                    : std::string("none (") + dynamics::to_string(bif->verdict) + ")";
   }
   if (!sim.summary.ok) {
     bif_text += "; the run diverged after revolution " + std::to_string(done) + " (depth " +
-                fmt_sig(sim.samples.depth_m[std::max<Eigen::Index>(done - 1, 0)] * kMmPerM, 3) +
+                fmt_sig(sim.samples.depth_m[std::max<Eigen::Index>(done - 1, 0)] * kMToMm, 3) +
                 " mm)";
   }
   ctx["bifurcation"] = bif_text;
@@ -307,8 +305,8 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
   json islands = json::array();
   if (bif && bif->summary.ok) {
     for (const auto& is : bif->islands) {
-      islands.push_back({{"start_mm", fmt_fixed(is.onset_depth_m * kMmPerM, 2)},
-                         {"end_mm", fmt_fixed(is.end_depth_m * kMmPerM, 2)}});
+      islands.push_back({{"start_mm", fmt_fixed(is.onset_depth_m * kMToMm, 2)},
+                         {"end_mm", fmt_fixed(is.end_depth_m * kMToMm, 2)}});
     }
   }
   ctx["islands"] = islands;
@@ -330,14 +328,14 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
   ctx["fig_poincare"] = "figures/poincare";
   std::string pd;
   for (const auto& m : maps)
-    pd += (pd.empty() ? "" : ", ") + fmt_sig(m.requested_depth_m * kMmPerM, 3);
+    pd += (pd.empty() ? "" : ", ") + fmt_sig(m.requested_depth_m * kMToMm, 3);
   ctx["poincare_depths"] = pd;
   json shown = json::array();
   if (!sim.records.empty() && sim.records[0].x_m.allFinite()) {
     const auto& r = sim.records[0];
     shown.push_back({{"fig", "figures/revolution"},
                      {"caption", "Revolution " + std::to_string(r.revolution + 1) + " (depth " +
-                                     fmt_sig(r.depth_m[0] * kMmPerM, 3) +
+                                     fmt_sig(r.depth_m[0] * kMToMm, 3) +
                                      " mm): deflection, chip thickness per tooth and forces" +
                                      (spec.inertial ? " with the inertial forces (000 figs 7.3-7.4)"
                                                     : " (000 fig. 5.2)") +

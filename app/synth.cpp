@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 #include "analysis/cutting/slot_synth.h"
 #include "app/core/signals.h"
@@ -15,8 +16,6 @@
 
 namespace chatterlab::app {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 void throw_if_errors(const YamlReader& r) {
   if (r.errors().empty()) return;
@@ -72,10 +71,10 @@ DynoSpec read_dyno(const YAML::Node& n, YamlReader& r) {
   if (!k || !k.IsMap()) {
     r.error("dyno.coefficients", "must be {Ktc_N_m2, Kte_N_m, Krc_N_m2, Kre_N_m}");
   } else {
-    d.k.Ktc_N_per_m2 = r.required_double(k, "Ktc_N_m2", "dyno.coefficients");
-    d.k.Kte_N_per_m = r.required_double(k, "Kte_N_m", "dyno.coefficients");
-    d.k.Krc_N_per_m2 = r.required_double(k, "Krc_N_m2", "dyno.coefficients");
-    d.k.Kre_N_per_m = r.required_double(k, "Kre_N_m", "dyno.coefficients");
+    d.k.Kt_N_m2 = r.required_double(k, "Ktc_N_m2", "dyno.coefficients");
+    d.k.Kte_N_m = r.required_double(k, "Kte_N_m", "dyno.coefficients");
+    d.k.Kr_N_m2 = r.required_double(k, "Krc_N_m2", "dyno.coefficients");
+    d.k.Kre_N_m = r.required_double(k, "Kre_N_m", "dyno.coefficients");
   }
   return d;
 }
@@ -90,7 +89,7 @@ int write_dyno_group(const DynoSpec& d, std::uint64_t seed, const std::filesyste
     s.feed_per_tooth_m = d.feeds_m[i];
     s.depth_m = d.depth_m;
     s.coefficients = d.k;
-    s.theta_dyn_rad = d.theta_dyn_deg * kPi / 180.0;
+    s.theta_dyn_rad = d.theta_dyn_deg * kDegToRad;
     s.initial_tool_angle_rad = 0.7 + 0.9 * static_cast<double>(i);  // any phase at record start
     s.offset_x_N = d.offsets.first;
     s.offset_y_N = d.offsets.second;
@@ -122,9 +121,8 @@ int write_dyno_group(const DynoSpec& d, std::uint64_t seed, const std::filesyste
     write_text(dir / "test.yaml", y.str());
     ++written;
   }
-  truth_tests << "  dyno/: {Ktc_N_m2: " << num(d.k.Ktc_N_per_m2)
-              << ", Kte_N_m: " << num(d.k.Kte_N_per_m) << ", Krc_N_m2: " << num(d.k.Krc_N_per_m2)
-              << ", Kre_N_m: " << num(d.k.Kre_N_per_m)
+  truth_tests << "  dyno/: {Ktc_N_m2: " << num(d.k.Kt_N_m2) << ", Kte_N_m: " << num(d.k.Kte_N_m)
+              << ", Krc_N_m2: " << num(d.k.Kr_N_m2) << ", Kre_N_m: " << num(d.k.Kre_N_m)
               << ", theta_dyn_deg: " << num(d.theta_dyn_deg) << "}\n";
   return written;
 }

@@ -4,16 +4,15 @@
 #include <fstream>
 #include <random>
 
+#include "analysis/common/constants.h"
+#include "analysis/common/modal_parameters.h"
 #include "analysis/common/summary.h"
-#include "analysis/milling/simulation.h"
+#include "analysis/milling/simulation_options.h"
+#include "analysis/sync/cut_synth.h"
 #include "app/core/signals.h"
 
 namespace chatterlab::app {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kMm = 1e-3;
-constexpr double kTachHigh_V = 5.0;
 
 std::string num(double v) {
   std::ostringstream s;
@@ -38,21 +37,6 @@ std::vector<double> numbers(const YAML::Node& n, const std::string& path, YamlRe
   return v;
 }
 
-// Tachometer: 0 V, 5 V for `width` samples after each instant where theta_1 equals the
-// offset angle. Edges are two-sample linear ramps centred on the true instant: both samples
-// around the crossing lie on the ramp, so linear interpolation at half amplitude recovers the
-// instant exactly (a one-sample ramp leaves one of them clamped on the plateau).
-double tach_volts(double theta1, double offset_rad, double samples_per_rad, double width) {
-  double u = std::fmod(theta1 - offset_rad, 2 * kPi);
-  if (u < 0) u += 2 * kPi;
-  u *= samples_per_rad;  // samples since the edge, in [0, P)
-  const double period = 2 * kPi * samples_per_rad;
-  if (u > period / 2) u -= period;  // just before the edge: negative
-  const double rise = std::clamp(0.5 * (u + 1.0), 0.0, 1.0);
-  const double fall = std::clamp(0.5 * (width - u + 1.0), 0.0, 1.0);
-  return kTachHigh_V * std::min(rise, fall);
-}
-
 }  // namespace
 
 CutSynthSpec read_cut_synth(const YAML::Node& n, YamlReader& r) {
@@ -66,9 +50,10 @@ CutSynthSpec read_cut_synth(const YAML::Node& n, YamlReader& r) {
   s.fs_hz = r.optional_double(n, "sample_rate_hz", p).value_or(s.fs_hz);
   s.spindle_rpm = r.optional_double(n, "spindle_rpm", p).value_or(s.spindle_rpm);
   s.feed_per_tooth_m =
-      r.optional_double(n, "feed_per_tooth_mm", p).value_or(s.feed_per_tooth_m / kMm) * kMm;
+      r.optional_double(n, "feed_per_tooth_mm", p).value_or(s.feed_per_tooth_m / kMmToM) * kMmToM;
   s.radial_immersion_m =
-      r.optional_double(n, "radial_immersion_mm", p).value_or(s.radial_immersion_m / kMm) * kMm;
+      r.optional_double(n, "radial_immersion_mm", p).value_or(s.radial_immersion_m / kMmToM) *
+      kMmToM;
   s.operation = r.optional_string(n, "operation", p).value_or(s.operation);
   if (s.operation != "up-milling" && s.operation != "down-milling") {
     r.error("cut.operation", "must be up-milling or down-milling");
@@ -118,8 +103,8 @@ CutSynthSpec read_cut_synth(const YAML::Node& n, YamlReader& r) {
     if (!depth) {
       r.error(tp + ".axial_depth_mm", "is missing");
     } else {
-      c.depth_start_m = depth->first * kMm;
-      c.depth_end_m = depth->second * kMm;
+      c.depth_start_m = depth->first * kMmToM;
+      c.depth_end_m = depth->second * kMmToM;
     }
     c.revolutions_per_mm = r.optional_double(t, "revolutions_per_mm", tp);
     c.duration_s = r.optional_double(t, "duration_s", tp);
@@ -148,16 +133,10 @@ int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint
     throw InputError("synth: cut.coefficients need one Kt_N_m2 and one Kr_N_m2 per tooth (" +
                      std::to_string(teeth) + ")");
   }
-  // Simulation steps per revolution: a multiple of P (every k-th step is a sample) with at
-  // least 800 steps per tooth pass (000 sec. 5.2) and a whole number of steps per tooth.
-  int S = P;
-  while (S < 800 * teeth || S % teeth != 0) S += P;
-  const int decimation = S / P;
-
   milling::SimulationOptions o;
   o.teeth = teeth;
   o.radius_m = radius_m;
-  o.modal_x = {s.modal.m_kg, s.modal.c_kg_s, s.modal.k_N_m};
+  o.modal_x = modal_parameters_of(s.modal);
   for (int p = 0; p < teeth; ++p) {
     o.coefficients.push_back(milling::cutting_coefficients(s.Kt_N_m2[static_cast<std::size_t>(p)],
                                                            s.Kr_N_m2[static_cast<std::size_t>(p)]));
@@ -167,7 +146,8 @@ int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint
   o.spindle_rpm = s.spindle_rpm;
   o.feed_per_tooth_m = s.feed_per_tooth_m;
   o.radial_immersion_m = s.radial_immersion_m;
-  o.steps_per_tooth = S / teeth;
+  // Every k-th simulation step is a sample, at least 800 steps per tooth pass (000 sec. 5.2).
+  o.steps_per_tooth = sync::sampled_steps_per_tooth(P, teeth);
 
   int written = 0;
   std::uint64_t test_seed = seed;
@@ -179,23 +159,6 @@ int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint
              : milling::DepthProfile::constant(
                    c.depth_start_m,
                    std::max(1, static_cast<int>(std::ceil(*c.duration_s * s.spindle_rpm / 60))));
-    const milling::SimulationGrid grid = milling::simulation_grid(o);
-    milling::RecordingRequest rec;
-    rec.trace_revolutions = grid.revolutions;
-    const milling::SimulationResult sim = milling::simulate(o, rec);
-    if (!sim.summary.ok) {
-      throw InputError("synth: cut test '" + c.name +
-                       "': simulation failed: " + sim.summary.message);
-    }
-    const Eigen::Index n_air = static_cast<Eigen::Index>(s.air_revolutions) * P;
-    const Eigen::Index n_cut = static_cast<Eigen::Index>(grid.revolutions) * P;
-    const Eigen::Index n = n_air + n_cut + 2 * P;  // two revolutions after the cut window
-    Eigen::VectorXd xv(n), yv(n), tach(n);
-    std::mt19937_64 rng(test_seed);
-    std::normal_distribution<double> noise(0.0, s.noise_m);
-    std::uniform_real_distribution<double> phase(0.0, 2 * kPi);
-    std::vector<double> harmonic_phase;
-    for (std::size_t h = 0; h < s.out_of_round_m.size(); ++h) harmonic_phase.push_back(phase(rng));
     double offset_deg = 0.0;
     if (c.offset_angle_deg) {
       offset_deg = *c.offset_angle_deg;
@@ -203,50 +166,39 @@ int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint
       std::mt19937_64 draw(test_seed ^ 0x9e3779b97f4a7c15ULL);
       offset_deg = 360.0 * static_cast<double>(draw() >> 11) * 0x1.0p-53;
     }
-    const double offset_rad = offset_deg * kPi / 180.0;
-    const double runout_phase = s.runout_angle_deg * kPi / 180.0;
-    const double samples_per_rad = P / (2 * kPi);
-    const std::size_t last_trace = sim.trace.x_m.size() - 1;
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const double theta1 = 2 * kPi * static_cast<double>(i % P) / P;
-      double x_tip = 0, y_tip = 0;  // air before the cut; after it the tool leaves the part
-      if (i >= n_air && i < n_air + n_cut) {
-        const auto k = std::min(static_cast<std::size_t>((i - n_air) * decimation), last_trace);
-        x_tip = sim.trace.x_m[k];
-        y_tip = sim.trace.y_m[k];
-      }
-      // Contour of the spinning tool seen by the sensors on +x and +y: eccentricity and
-      // out-of-roundness harmonics, fixed in the tool, so periodic in theta_1.
-      double cx = s.runout_m * std::sin(theta1 + runout_phase);
-      double cy = s.runout_m * std::cos(theta1 + runout_phase);
-      for (std::size_t h = 0; h < s.out_of_round_m.size(); ++h) {
-        const double kh = static_cast<double>(h + 2);
-        cx += s.out_of_round_m[h] * std::cos(kh * (kPi / 2 - theta1) + harmonic_phase[h]);
-        cy += s.out_of_round_m[h] * std::cos(kh * (-theta1) + harmonic_phase[h]);
-      }
-      const double x_sensor = (x_tip + noise(rng)) / s.sensor_to_tip + cx;
-      const double y_sensor = (y_tip + noise(rng)) / s.sensor_to_tip + cy;
-      xv[i] = (x_sensor - s.gap_offset_m) / s.scale_m_per_V;  // volts
-      yv[i] = (y_sensor - s.gap_offset_m) / s.scale_m_per_V;
-      tach[i] = tach_volts(theta1, offset_rad, samples_per_rad, 0.05 * P);
+    sync::CutRecordSpec r;
+    r.cut = o;
+    r.fs_hz = s.fs_hz;
+    r.air_revolutions = s.air_revolutions;
+    r.tail_revolutions = 2;  // two revolutions after the cut window
+    r.offset_angle_deg = offset_deg;
+    r.noise_tip_m = s.noise_m;
+    r.sensor_to_tip = s.sensor_to_tip;
+    r.contour.eccentricity_m = s.runout_m;
+    r.contour.eccentricity_angle_rad = s.runout_angle_deg * kDegToRad;
+    r.contour.harmonic_m = s.out_of_round_m;  // phases drawn from the test's seed
+    r.seed = test_seed;
+    const sync::CutRecord rec = sync::synthesize_cut_record(r);
+    if (!rec.summary.ok) {
+      throw InputError("synth: cut test '" + c.name + "': " + rec.summary.message);
     }
+    // Volts: the test's channel calibration (scale, gap offset) gives the sensor metres back.
+    const Eigen::VectorXd xv = (rec.x_sensor_m.array() - s.gap_offset_m) / s.scale_m_per_V;
+    const Eigen::VectorXd yv = (rec.y_sensor_m.array() - s.gap_offset_m) / s.scale_m_per_V;
     const auto dir = out / "cuts" / c.name;
     std::filesystem::create_directories(dir);
-    write_signals(dir / "signals.f32", {"x", "y", "tach"}, {&xv, &yv, &tach});
-    const double t_rev = 60.0 / s.spindle_rpm;
+    write_signals(dir / "signals.f32", {"x", "y", "tach"}, {&xv, &yv, &rec.tach_V});
     std::ofstream y(dir / "test.yaml");
     y << "kind: cut\noperation: " << s.operation << "\nspindle_rpm: " << num(s.spindle_rpm)
-      << "\nfeed_per_tooth_mm: " << num(s.feed_per_tooth_m / kMm)
-      << "\nradial_immersion_mm: " << num(s.radial_immersion_m / kMm) << "\naxial_depth_mm: ";
+      << "\nfeed_per_tooth_mm: " << num(s.feed_per_tooth_m / kMmToM)
+      << "\nradial_immersion_mm: " << num(s.radial_immersion_m / kMmToM) << "\naxial_depth_mm: ";
     if (ramp) {
-      y << "[" << num(c.depth_start_m / kMm) << ", " << num(grid.depth_at_step(grid.steps) / kMm)
-        << "]\n";
+      y << "[" << num(c.depth_start_m / kMmToM) << ", " << num(rec.depth_end_m / kMmToM) << "]\n";
     } else {
-      y << num(c.depth_start_m / kMm) << "\n";
+      y << num(c.depth_start_m / kMmToM) << "\n";
     }
-    y << "cut_window_s: [" << num(s.air_revolutions * t_rev) << ", "
-      << num((s.air_revolutions + grid.revolutions) * t_rev) << "]\n"
-      << "air_window_s: [0.0, " << num((s.air_revolutions - 1) * t_rev) << "]\n"
+    y << "cut_window_s: [" << num(rec.cut_start_s) << ", " << num(rec.cut_end_s) << "]\n"
+      << "air_window_s: [0.0, " << num(rec.air_end_s) << "]\n"
       << "sample_rate_hz: " << num(s.fs_hz) << "\n"
       << "data: {file: signals.f32, channels: [x, y, tach]}\n"
       << "channels:\n"

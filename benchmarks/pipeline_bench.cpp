@@ -22,7 +22,7 @@ cutting::SlotRecord slot_record() {
   cutting::SlotRecordSpec s;
   s.spindle_rpm = 600;
   s.feed_per_tooth_m = 0.1e-3;
-  s.coefficients = {5.89e8, 9080, 3.19e8, 11300};
+  s.coefficients = {5.89e8, 3.19e8, 9080, 11300};
   s.theta_dyn_rad = 0.65;
   s.noise_std_N = 2;
   s.fs_hz = 20000;

@@ -5,15 +5,13 @@
 #include <numeric>
 #include <sstream>
 
+#include "analysis/common/constants.h"
 #include "analysis/signal/pulses.h"
 
 namespace chatterlab {
 namespace cutting {
 
 namespace {
-
-constexpr double kPi = 3.141592653589793238463;
-constexpr double kTwoPi = 2.0 * kPi;
 
 double wrap_2pi(double a) {
   double w = std::fmod(a, kTwoPi);
@@ -245,11 +243,9 @@ SlotRecordResult analyse_slot_record(const Eigen::Ref<const Eigen::VectorXd>& Fx
     F(0, i - i0) = Fx_N[i] - r.offset_x_N;
     F(1, i - i0) = Fy_N[i] - r.offset_y_N;
   }
-
-  constexpr double kDeg = kPi / 180.0;
   double contrast = 0.0;
-  const double psi = switching_phase_rad(phi, F, options.theta_coarse_step_deg * kDeg,
-                                         options.theta_resolution_deg * kDeg, &contrast);
+  const double psi = switching_phase_rad(phi, F, options.theta_coarse_step_deg * kDegToRad,
+                                         options.theta_resolution_deg * kDegToRad, &contrast);
   r.theta_dyn_rad = psi > 0.5 * kPi ? psi - kPi : psi;  // nearest tooth change: (-pi/2, pi/2]
   r.switching_contrast = contrast;
 

@@ -5,12 +5,12 @@
 #include <sstream>
 #include <vector>
 
+#include "analysis/common/constants.h"
+
 namespace chatterlab {
 namespace cutting {
 
 namespace {
-
-constexpr double kPi = 3.141592653589793238463;
 
 // Two feeds closer than this fraction of the largest feed count as one (a 0.025 mm step is
 // 1/6 of 0.150 mm; 1e-6 only merges values that differ by rounding).
@@ -80,6 +80,8 @@ SlotCoefficients fit_slot_coefficients(const Eigen::Ref<const Eigen::VectorXd>& 
   check_positive(depth_m, "depth_m", false);
 
   SlotCoefficients out;
+  out.coefficients.Kte_N_m = std::numeric_limits<double>::quiet_NaN();  // not measured yet
+  out.coefficients.Kre_N_m = std::numeric_limits<double>::quiet_NaN();
   out.mean_force_model = options.mean_force_model;
   out.records = static_cast<int>(n);
   std::vector<double> sorted(feeds_m.data(), feeds_m.data() + n);
@@ -105,10 +107,15 @@ SlotCoefficients fit_slot_coefficients(const Eigen::Ref<const Eigen::VectorXd>& 
 
   // mean|F| = c b Kc h + b Ke (000 eqs 3.5-3.6 as corrected, or as printed) -> eqs 3.9-3.12.
   const double c = mean_force_slope_factor(options.mean_force_model);
-  out.coefficients.Ktc_N_per_m2 = out.tangential.slope_N_per_m2 / c;
-  out.coefficients.Kte_N_per_m = out.tangential.intercept_N_per_m;
-  out.coefficients.Krc_N_per_m2 = out.radial.slope_N_per_m2 / c;
-  out.coefficients.Kre_N_per_m = out.radial.intercept_N_per_m;
+  SlotFitCoefficients& k = out.coefficients;
+  k.Kt_N_m2 = out.tangential.slope_N_per_m2 / c;
+  k.Kte_N_m = out.tangential.intercept_N_per_m;
+  k.Kr_N_m2 = out.radial.slope_N_per_m2 / c;
+  k.Kre_N_m = out.radial.intercept_N_per_m;
+  k.Ktc_N_per_m2 = k.Kt_N_m2;
+  k.Kte_N_per_m = k.Kte_N_m;
+  k.Krc_N_per_m2 = k.Kr_N_m2;
+  k.Kre_N_per_m = k.Kre_N_m;
 
   const auto warn_line = [&](const FittedLine& line, const char* name) {
     if (line.r_squared < options.fit_r_squared_warning) {

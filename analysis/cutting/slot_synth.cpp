@@ -4,6 +4,7 @@
 #include <random>
 #include <sstream>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/require.h"
 #include "analysis/common/summary.h"
 
@@ -11,9 +12,6 @@ namespace chatterlab {
 namespace cutting {
 
 namespace {
-
-constexpr double kPi = 3.141592653589793238463;
-constexpr double kTwoPi = 2.0 * kPi;
 
 template <typename T>
 void require(bool rule_holds, const char* field, T value, const char* rule) {
@@ -27,14 +25,10 @@ void validate(const SlotRecordSpec& s) {
           s.feed_per_tooth_m, "must be >= 0");
   require(s.depth_m > 0.0 && std::isfinite(s.depth_m), "depth_m", s.depth_m, "must be > 0");
   const milling::CuttingCoefficients& k = s.coefficients;
-  require(std::isfinite(k.Ktc_N_per_m2), "coefficients.Ktc_N_per_m2", k.Ktc_N_per_m2,
-          "must be finite");
-  require(std::isfinite(k.Kte_N_per_m), "coefficients.Kte_N_per_m", k.Kte_N_per_m,
-          "must be finite");
-  require(std::isfinite(k.Krc_N_per_m2), "coefficients.Krc_N_per_m2", k.Krc_N_per_m2,
-          "must be finite");
-  require(std::isfinite(k.Kre_N_per_m), "coefficients.Kre_N_per_m", k.Kre_N_per_m,
-          "must be finite");
+  require(std::isfinite(k.Kt_N_m2), "coefficients.Kt_N_m2", k.Kt_N_m2, "must be finite");
+  require(std::isfinite(k.Kte_N_m), "coefficients.Kte_N_m", k.Kte_N_m, "must be finite");
+  require(std::isfinite(k.Kr_N_m2), "coefficients.Kr_N_m2", k.Kr_N_m2, "must be finite");
+  require(std::isfinite(k.Kre_N_m), "coefficients.Kre_N_m", k.Kre_N_m, "must be finite");
   require(std::isfinite(s.theta_dyn_rad), "theta_dyn_rad", s.theta_dyn_rad, "must be finite");
   require(std::isfinite(s.initial_tool_angle_rad), "initial_tool_angle_rad",
           s.initial_tool_angle_rad, "must be finite");

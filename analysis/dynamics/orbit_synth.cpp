@@ -5,14 +5,13 @@
 #include <random>
 #include <sstream>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 
 namespace chatterlab {
 namespace dynamics {
 
 namespace {
-
-constexpr double kTwoPi = 6.283185307179586476925286766559;
 
 double envelope(const ChatterEpisodeSpec& e, double depth) {
   if (!(depth >= e.low_depth_m && depth <= e.high_depth_m)) return 0.0;

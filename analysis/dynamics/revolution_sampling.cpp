@@ -4,16 +4,13 @@
 #include <sstream>
 #include <vector>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 
 namespace chatterlab {
 namespace dynamics {
 
-namespace {
-
-constexpr double kTwoPi = 6.283185307179586476925286766559;
-
-}  // namespace
+namespace {}  // namespace
 
 RevolutionCrossings revolution_crossings(const Eigen::Ref<const Eigen::VectorXd>& theta_rad,
                                          double theta_s_rad) {

@@ -17,6 +17,7 @@
 #include <limits>
 #include <vector>
 
+#include "analysis/common/cutting_coefficients.h"
 #include "analysis/estimate/spline_resample.h"
 #include "analysis/milling/simulation_options.h"
 
@@ -137,10 +138,9 @@ class CutChips {
   double delay_frac_ = 0.0;     // delay - floor(delay); 0 when tau / T is an integer
 };
 
-struct ToothCoefficients {
-  double Kt_N_m2 = std::numeric_limits<double>::quiet_NaN();  // tangential, N/m^2
-  double Kr_N_m2 = std::numeric_limits<double>::quiet_NaN();  // radial, N/m^2
-};
+// Kt_p, Kr_p of one tooth (000 eqs 2.1-2.2; common/cutting_coefficients.h, edge terms 0: the
+// filters' force model has none).
+using ToothCoefficients = CuttingCoefficients;
 
 // The modal filters' input: the whole cutting force with known per-tooth coefficients
 // (coefficients.size() >= chips.teeth, not checked: called per step).

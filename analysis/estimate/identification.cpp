@@ -6,6 +6,7 @@
 #include <string>
 #include <utility>
 
+#include "analysis/common/modal_parameters.h"
 #include "analysis/common/require.h"
 #include "analysis/estimate/ekf_variants.h"
 #include "analysis/estimate/modal_sequence.h"
@@ -24,13 +25,6 @@ void validate(const IdentificationOptions& o) {
                o.offset_tolerance_deg, "must be >= 0");
   require_rule(o.parameter_tolerance >= 0, "identification.parameter_tolerance",
                o.parameter_tolerance, "must be >= 0");
-}
-
-std::vector<milling::CuttingCoefficients> simulator_coefficients(
-    const std::vector<ToothCoefficients>& k) {
-  std::vector<milling::CuttingCoefficients> out;
-  for (const auto& c : k) out.push_back(milling::cutting_coefficients(c.Kt_N_m2, c.Kr_N_m2));
-  return out;
 }
 
 }  // namespace
@@ -87,9 +81,9 @@ IdentificationResult identify_cut(const MeasuredCut& window,
       }
       p.modal = seq.identified;
       milling::SimulationOptions model = in.cut_model;
-      model.modal_x = {p.modal.m_kg, p.modal.c_kg_s, p.modal.k_N_m};
+      model.modal_x = modal_parameters_of(p.modal);
       model.modal_y = model.modal_x;
-      model.coefficients = simulator_coefficients(p.coefficients);
+      model.coefficients = p.coefficients;
       sync::OffsetAngleResult again =
           sync::find_offset_angle(measured_mean, model, in.offset_depth_m);
       if (!again.summary.ok) {

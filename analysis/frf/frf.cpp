@@ -5,14 +5,13 @@
 #include <cstdio>
 #include <string>
 
+#include "analysis/common/constants.h"
 #include "analysis/frf/windows.h"
 #include "analysis/signal/fft.h"
 
 namespace chatterlab {
 namespace frf {
 namespace {
-
-constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
 
 // Factor that turns the response's FRF into receptance at angular frequency w. With the
 // exponential window on both channels the measured FRF is the response's transfer function

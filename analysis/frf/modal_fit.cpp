@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <string>
 
+#include "analysis/common/constants.h"
 #include "analysis/frf/fit_band.h"
 #include "analysis/frf/modal_model.h"
 #include "analysis/frf/peaks.h"
@@ -18,7 +19,6 @@ namespace chatterlab {
 namespace frf {
 namespace {
 
-constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
 constexpr double kZetaMin = 1e-6;  // bounds of the fitted damping ratio
 constexpr double kZetaMax = 0.5;   // a mode damped more than this shows no peak to fit
 constexpr double kAtBound = 1e-3;  // relative distance that counts as "at a bound"

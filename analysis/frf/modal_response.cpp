@@ -6,13 +6,12 @@
 #include <string>
 #include <unsupported/Eigen/MatrixFunctions>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 
 namespace chatterlab {
 namespace frf {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 void check_rate(double fs_hz) {
   if (!(std::isfinite(fs_hz) && fs_hz > 0.0)) {

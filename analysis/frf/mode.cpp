@@ -4,13 +4,12 @@
 #include <complex>
 #include <string>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 
 namespace chatterlab {
 namespace frf {
 namespace {
-
-constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
 
 void require(bool ok, const char* name, double value, const char* rule) {
   if (!ok)
@@ -27,8 +26,8 @@ Mode mode_from_mck(double m_kg, double c_kg_s, double k_N_m) {
   mode.m_kg = m_kg;
   mode.c_kg_s = c_kg_s;
   mode.k_N_m = k_N_m;
-  mode.fn_hz = std::sqrt(k_N_m / m_kg) / kTwoPi;
-  mode.zeta = c_kg_s / (2.0 * std::sqrt(k_N_m * m_kg));
+  mode.fn_hz = natural_frequency_hz(mode);
+  mode.zeta = damping_ratio(mode);
   return mode;
 }
 

@@ -5,18 +5,18 @@
 #include <optional>
 #include <vector>
 
+#include "analysis/common/modal_parameters.h"
 #include "analysis/common/summary.h"  // InputError
 
 namespace chatterlab {
 namespace frf {
 
-// m x'' + c x' + k x = F (000 eq. 2.5); fn = sqrt(k/m)/(2 pi), zeta = c / (2 sqrt(k m)).
-struct Mode {
-  double fn_hz = 0.0;   // undamped natural frequency
-  double zeta = 0.0;    // damping ratio
-  double m_kg = 0.0;    // modal mass
-  double c_kg_s = 0.0;  // modal damping
-  double k_N_m = 0.0;   // modal stiffness
+// m x'' + c x' + k x = F (000 eq. 2.5), m, c, k as common/modal_parameters.h (a Mode is used
+// wherever modal parameters are, e.g. as a simulator axis), with its modal form
+// fn = sqrt(k/m)/(2 pi), zeta = c / (2 sqrt(k m)) (natural_frequency_hz, damping_ratio).
+struct Mode : ModalParameters {
+  double fn_hz = 0.0;  // undamped natural frequency
+  double zeta = 0.0;   // damping ratio
 };
 
 // @throws InputError unless m > 0, k > 0, c >= 0 (all finite)

@@ -4,11 +4,11 @@
 #include <cmath>
 #include <string>
 
+#include "analysis/common/constants.h"
+
 namespace chatterlab {
 namespace frf {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 double rms(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Index from, Eigen::Index count,
            double baseline) {

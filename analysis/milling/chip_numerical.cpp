@@ -4,14 +4,13 @@
 #include <cmath>
 #include <limits>
 
+#include "analysis/common/constants.h"
 #include "analysis/milling/engagement.h"
 
 namespace chatterlab {
 namespace milling {
 
 namespace {
-
-constexpr double kTwoPi = 6.283185307179586476925;
 
 // The fast search falls back to the plain one when its bound is too loose to help: the band
 // must stay within a quarter of a revolution (and the small-angle argument within 30 degrees).

@@ -3,14 +3,13 @@
 #include <cmath>
 #include <sstream>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 
 namespace chatterlab {
 namespace milling {
 
-namespace {
-constexpr double kPi = 3.141592653589793238463;
-}
+namespace {}
 
 EngagementWindow engagement_window(Operation op, double radius_m, double radial_immersion_m) {
   if (!(radius_m > 0.0) || !std::isfinite(radius_m)) {

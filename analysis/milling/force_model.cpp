@@ -3,14 +3,13 @@
 #include <cmath>
 #include <sstream>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 
 namespace chatterlab {
 namespace milling {
 
-namespace {
-constexpr double kTwoPi = 6.283185307179586476925;
-}
+namespace {}
 
 double tooth_angle_rad(double theta1_rad, int p, int n) {
   if (n < 1 || p < 1 || p > n) {
@@ -39,8 +38,8 @@ ToothForce tooth_force(const CuttingCoefficients& k, double chip_thickness_m, do
                        bool engaged) {
   ToothForce f;
   if (!engaged || !(chip_thickness_m > 0.0)) return f;
-  f.tangential_N = k.Ktc_N_per_m2 * depth_m * chip_thickness_m + k.Kte_N_per_m * depth_m;
-  f.radial_N = k.Krc_N_per_m2 * depth_m * chip_thickness_m + k.Kre_N_per_m * depth_m;
+  f.tangential_N = k.Kt_N_m2 * depth_m * chip_thickness_m + k.Kte_N_m * depth_m;
+  f.radial_N = k.Kr_N_m2 * depth_m * chip_thickness_m + k.Kre_N_m * depth_m;
   return f;
 }
 

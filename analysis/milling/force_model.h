@@ -12,17 +12,14 @@
 #include <Eigen/Core>
 #include <limits>
 
+#include "analysis/common/cutting_coefficients.h"
+
 namespace chatterlab {
 namespace milling {
 
-// Cutting-force coefficients of 000 eqs 3.3-3.4 (Ktc, Krc: eqs 2.1-2.2's Kt, Kr).
-// No defaults: a coefficient that was never measured or configured stays NaN.
-struct CuttingCoefficients {
-  double Ktc_N_per_m2 = std::numeric_limits<double>::quiet_NaN();  // tangential, cutting
-  double Kte_N_per_m = std::numeric_limits<double>::quiet_NaN();   // tangential, edge
-  double Krc_N_per_m2 = std::numeric_limits<double>::quiet_NaN();  // radial, cutting
-  double Kre_N_per_m = std::numeric_limits<double>::quiet_NaN();   // radial, edge
-};
+// Cutting-force coefficients of 000 eqs 3.3-3.4 (Kt, Kr: eqs 2.1-2.2's; Kte, Kre the edge
+// terms), common/cutting_coefficients.h.
+using CuttingCoefficients = chatterlab::CuttingCoefficients;
 
 // Force on one tooth, in its own tangential/radial directions (N).
 struct ToothForce {
@@ -66,8 +63,8 @@ inline ToothForce tooth_force_signed(const CuttingCoefficients& k, double chip_t
                                      double depth_m, bool engaged) {
   ToothForce f;
   if (!engaged) return f;
-  f.tangential_N = k.Ktc_N_per_m2 * depth_m * chip_thickness_m + k.Kte_N_per_m * depth_m;
-  f.radial_N = k.Krc_N_per_m2 * depth_m * chip_thickness_m + k.Kre_N_per_m * depth_m;
+  f.tangential_N = k.Kt_N_m2 * depth_m * chip_thickness_m + k.Kte_N_m * depth_m;
+  f.radial_N = k.Kr_N_m2 * depth_m * chip_thickness_m + k.Kre_N_m * depth_m;
   return f;
 }
 

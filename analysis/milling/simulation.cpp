@@ -8,6 +8,7 @@
 #include <sstream>
 #include <string>
 
+#include "analysis/common/constants.h"
 #include "analysis/milling/chip_numerical.h"
 #include "analysis/milling/chip_traditional.h"
 #include "analysis/milling/engagement.h"
@@ -19,8 +20,6 @@ namespace chatterlab {
 namespace milling {
 
 namespace {
-
-constexpr double kTwoPi = 6.283185307179586476925;
 
 void check_recording(const RecordingRequest& r, int revolutions) {
   const auto fail = [](const std::string& field, int value, const std::string& rule) {

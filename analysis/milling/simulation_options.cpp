@@ -5,6 +5,7 @@
 #include <sstream>
 #include <string>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 
 namespace chatterlab {
@@ -12,7 +13,6 @@ namespace milling {
 
 namespace {
 
-constexpr double kTwoPi = 6.283185307179586476925;
 // Largest run accepted: 2^31 steps (a 0-6 mm incline at 800 steps per tooth is 1.24e7).
 constexpr std::int64_t kMaxSteps = std::int64_t{1} << 31;
 
@@ -68,13 +68,13 @@ DepthProfile DepthProfile::constant(double depth_m, int revolutions) {
   return d;
 }
 
-CuttingCoefficients cutting_coefficients(double Kt_N_per_m2, double Kr_N_per_m2, double Kte_N_per_m,
-                                         double Kre_N_per_m) {
+CuttingCoefficients cutting_coefficients(double Kt_N_m2, double Kr_N_m2, double Kte_N_m,
+                                         double Kre_N_m) {
   CuttingCoefficients k;
-  k.Ktc_N_per_m2 = Kt_N_per_m2;
-  k.Krc_N_per_m2 = Kr_N_per_m2;
-  k.Kte_N_per_m = Kte_N_per_m;
-  k.Kre_N_per_m = Kre_N_per_m;
+  k.Kt_N_m2 = Kt_N_m2;
+  k.Kr_N_m2 = Kr_N_m2;
+  k.Kte_N_m = Kte_N_m;
+  k.Kre_N_m = Kre_N_m;
   return k;
 }
 
@@ -92,10 +92,10 @@ void validate(const SimulationOptions& o) {
   for (std::size_t p = 0; p < o.coefficients.size(); ++p) {
     const std::string f = "coefficients[" + std::to_string(p) + "].";
     const CuttingCoefficients& k = o.coefficients[p];
-    check_coefficient(k.Ktc_N_per_m2, f + "Ktc_N_per_m2", "");
-    check_coefficient(k.Krc_N_per_m2, f + "Krc_N_per_m2", "");
-    check_coefficient(k.Kte_N_per_m, f + "Kte_N_per_m", " (0 for no edge force)");
-    check_coefficient(k.Kre_N_per_m, f + "Kre_N_per_m", " (0 for no edge force)");
+    check_coefficient(k.Kt_N_m2, f + "Kt_N_m2", "");
+    check_coefficient(k.Kr_N_m2, f + "Kr_N_m2", "");
+    check_coefficient(k.Kte_N_m, f + "Kte_N_m", " (0 for no edge force)");
+    check_coefficient(k.Kre_N_m, f + "Kre_N_m", " (0 for no edge force)");
   }
   require(std::isfinite(o.spindle_rpm) && o.spindle_rpm > 0.0, "spindle_rpm", o.spindle_rpm,
           "must be finite and > 0");

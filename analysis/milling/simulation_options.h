@@ -13,6 +13,7 @@
 #include <optional>
 #include <vector>
 
+#include "analysis/common/modal_parameters.h"
 #include "analysis/milling/force_model.h"
 
 namespace chatterlab {
@@ -41,12 +42,9 @@ enum class SwitchingRule { kContact, kAngleOnly };
 // Both evaluate the force of step j at (x_j, theta_j); see euler_order below.
 enum class EulerOrder { kVelocityFirst, kPositionFirst };
 
-// Modal parameters of one axis, 000 eqs 2.5-2.6. No defaults: never silently made up.
-struct AxisModal {
-  double m_kg = std::numeric_limits<double>::quiet_NaN();    // modal mass, > 0
-  double c_kg_s = std::numeric_limits<double>::quiet_NaN();  // modal damping, >= 0
-  double k_N_m = std::numeric_limits<double>::quiet_NaN();   // modal stiffness, > 0
-};
+// Modal parameters of one axis, 000 eqs 2.5-2.6 (common/modal_parameters.h). No defaults:
+// never silently made up.
+using AxisModal = ModalParameters;
 
 // Axial depth b over the run. Depth at step k (time k h) is linear in k.
 struct DepthProfile {
@@ -103,9 +101,9 @@ struct SimulationOptions {
   double radius_m = 6.35e-3;         // tool radius r, m, > 0 (000 sec. 5.2)
   AxisModal modal_x;                 // x axis: required
   std::optional<AxisModal> modal_y;  // y axis; unset: same as modal_x (000 sec. 5.1)
-  // One entry per tooth p = 1..n: Ktc/Krc are Kt_p/Kr_p of 000 eqs 2.1-2.2 (N/m^2, finite,
-  // >= 0), Kte/Kre the edge terms of 000 eqs 3.3-3.4 (N/m, finite, >= 0; no edge force: 0, see
-  // cutting_coefficients()).
+  // One entry per tooth p = 1..n: Kt_N_m2/Kr_N_m2 are Kt_p/Kr_p of 000 eqs 2.1-2.2 (Ktc, Krc of
+  // eqs 3.3-3.4; N/m^2, finite, >= 0), Kte_N_m/Kre_N_m the edge terms of 000 eqs 3.3-3.4 (N/m,
+  // finite, >= 0; 0 by default: no edge force).
   std::vector<CuttingCoefficients> coefficients;
   Operation operation = Operation::kUpMilling;
   double spindle_rpm = 15000.0;          // > 0 (000 sec. 5.2)
@@ -135,8 +133,8 @@ struct SimulationOptions {
 };
 
 // Kt, Kr of one tooth with edge terms 0 unless given (000 eqs 2.1-2.2, 3.3-3.4).
-CuttingCoefficients cutting_coefficients(double Kt_N_per_m2, double Kr_N_per_m2,
-                                         double Kte_N_per_m = 0.0, double Kre_N_per_m = 0.0);
+CuttingCoefficients cutting_coefficients(double Kt_N_m2, double Kr_N_m2, double Kte_N_m = 0.0,
+                                         double Kre_N_m = 0.0);
 
 // Throws InputError naming the first field that breaks its rule ("simulation.<field> = value:
 // rule").

@@ -5,15 +5,13 @@
 #include <cmath>
 #include <sstream>
 
+#include "analysis/common/constants.h"
 #include "analysis/milling/simulation.h"
 
 namespace chatterlab {
 namespace sync {
 
 namespace {
-
-constexpr double kPi = 3.141592653589793238463;
-constexpr double kDeg = kPi / 180.0;
 
 std::string fmt(double v, int precision = 6) {
   std::ostringstream s;
@@ -26,8 +24,8 @@ std::string fmt(double v, int precision = 6) {
 bool teeth_alike(const milling::SimulationOptions& o) {
   const milling::CuttingCoefficients& k0 = o.coefficients.front();
   for (const milling::CuttingCoefficients& k : o.coefficients) {
-    if (k.Ktc_N_per_m2 != k0.Ktc_N_per_m2 || k.Krc_N_per_m2 != k0.Krc_N_per_m2 ||
-        k.Kte_N_per_m != k0.Kte_N_per_m || k.Kre_N_per_m != k0.Kre_N_per_m) {
+    if (k.Kt_N_m2 != k0.Kt_N_m2 || k.Kr_N_m2 != k0.Kr_N_m2 || k.Kte_N_m != k0.Kte_N_m ||
+        k.Kre_N_m != k0.Kre_N_m) {
       return false;
     }
   }
@@ -143,7 +141,7 @@ OffsetAngleResult find_offset_angle(const RevolutionMean& measured,
       const double old_deg = s.offset_angle_deg;
       const double old_error = s.rms_error_m;
       s.offset_angle_deg = folded;
-      s.rms_error_m = matcher.rms_error_m(folded * kDeg);
+      s.rms_error_m = matcher.rms_error_m(folded * kDegToRad);
       if (circular_distance_deg(s.runner_up_deg, folded) < options.coarse_step_deg) {
         s.runner_up_deg = old_deg;
         s.runner_up_error_m = old_error;
@@ -158,7 +156,7 @@ OffsetAngleResult find_offset_angle(const RevolutionMean& measured,
 
   // Synchronized revolution on the measured grid, as theta_1.
   const Eigen::Index N = measured.x_m.size();
-  const double offset_rad = r.search.offset_angle_deg * kDeg;
+  const double offset_rad = r.search.offset_angle_deg * kDegToRad;
   r.theta1_deg.resize(N);
   r.simulated_x_m.resize(N);
   r.simulated_y_m.resize(N);
@@ -166,7 +164,7 @@ OffsetAngleResult find_offset_angle(const RevolutionMean& measured,
   r.measured_y_m.resize(N);
   for (Eigen::Index j = 0; j < N; ++j) {
     const double theta = 2.0 * kPi * static_cast<double>(j) / static_cast<double>(N);
-    r.theta1_deg[j] = theta / kDeg;
+    r.theta1_deg[j] = theta / kDegToRad;
     r.simulated_x_m[j] = periodic_interpolate(last.x_m, theta);
     r.simulated_y_m[j] = periodic_interpolate(last.y_m, theta);
     r.measured_x_m[j] = periodic_interpolate(measured.x_m, theta - offset_rad);

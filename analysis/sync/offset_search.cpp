@@ -5,16 +5,13 @@
 #include <string>
 #include <vector>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 
 namespace chatterlab {
 namespace sync {
 
 namespace {
-
-constexpr double kPi = 3.141592653589793238463;
-constexpr double kTwoPi = 2.0 * kPi;
-constexpr double kDeg = kPi / 180.0;
 
 void check_pair(const Eigen::Ref<const Eigen::VectorXd>& x,
                 const Eigen::Ref<const Eigen::VectorXd>& y, const char* name) {
@@ -122,9 +119,9 @@ OffsetSearch search_offset(const RevolutionMatcher& matcher, int teeth,
   r.error_m.resize(K);
   for (Eigen::Index k = 0; k < K; ++k) {
     r.candidate_deg[k] = static_cast<double>(k) * step;
-    r.error_m[k] = matcher.rms_error_m(r.candidate_deg[k] * kDeg);
+    r.error_m[k] = matcher.rms_error_m(r.candidate_deg[k] * kDegToRad);
   }
-  const auto E = [&](double deg) { return matcher.rms_error_m(deg * kDeg); };
+  const auto E = [&](double deg) { return matcher.rms_error_m(deg * kDegToRad); };
   const auto refine = [&](double deg) {
     return wrap_deg(golden_section(E, deg - step, deg + step, options.resolution_deg));
   };

@@ -3,12 +3,12 @@
 #include <cmath>
 #include <sstream>
 
+#include "analysis/common/constants.h"
+
 namespace chatterlab {
 namespace sync {
 
 namespace {
-
-constexpr double kTwoPi = 6.283185307179586476925286766559;
 
 void require_tach(const TachAngle& tach, const char* who) {
   if (!tach.summary.ok) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "analysis/common/constants.h"
 #include "analysis/signal/pulses.h"
 #include "analysis/signal/unwrap.h"
 
@@ -11,9 +12,6 @@ namespace chatterlab {
 namespace sync {
 
 namespace {
-
-constexpr double kPi = 3.141592653589793238463;
-constexpr double kTwoPi = 2.0 * kPi;
 
 std::string fmt(double v, int precision = 6) {
   std::ostringstream s;

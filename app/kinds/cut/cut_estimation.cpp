@@ -5,6 +5,8 @@
 #include <cmath>
 #include <exception>
 
+#include "analysis/common/cutting_coefficients.h"
+#include "analysis/common/modal_parameters.h"
 #include "analysis/dynamics/simulated_bifurcation.h"
 #include "analysis/estimate/cut_input.h"
 #include "analysis/estimate/operating_point.h"
@@ -46,13 +48,6 @@ std::string coefficients_text(const std::vector<estimate::ToothCoefficients>& k)
          fmt_sig(k[p].Kt_N_m2, 4) + ", Kr" + std::to_string(p + 1) + " " + fmt_sig(k[p].Kr_N_m2, 4);
   }
   return s + " N/m^2";
-}
-
-std::vector<milling::CuttingCoefficients> simulator_coefficients(
-    const std::vector<estimate::ToothCoefficients>& k) {
-  std::vector<milling::CuttingCoefficients> out;
-  for (const auto& c : k) out.push_back(milling::cutting_coefficients(c.Kt_N_m2, c.Kr_N_m2));
-  return out;
 }
 
 // The variant's observability rank at the operating sample (000 sec. 4.5, eq. 4.33).
@@ -145,8 +140,8 @@ std::vector<std::pair<std::string, double>> keyed_values(
 std::vector<std::pair<std::string, double>> scale_free_values(const CutEstimation& e) {
   const estimate::ModalParameters& m = e.modal;
   std::vector<std::pair<std::string, double>> v = {
-      {"fn_hz", std::sqrt(m.k_N_m / m.m_kg) / (2 * M_PI)},
-      {"zeta", m.c_kg_s / (2 * std::sqrt(m.k_N_m * m.m_kg))}};
+      {"fn_hz", natural_frequency_hz(modal_parameters_of(m))},
+      {"zeta", damping_ratio(modal_parameters_of(m))}};
   for (std::size_t p = 0; p < e.coefficients.size(); ++p) {
     const std::string n = std::to_string(p + 1);
     v.emplace_back("Kt" + n + "_over_k_per_m", e.coefficients[p].Kt_N_m2 / m.k_N_m);
@@ -194,8 +189,8 @@ CutEstimation run_cut_estimation(const TestSpec& t, const CutStepInputs& in,
     const estimate::CutSetup setup = setup_of(t, tool);
     const estimate::ModalParameters hammer{in.hammer_x->m_kg, in.hammer_x->c_kg_s,
                                            in.hammer_x->k_N_m};
-    const estimate::ToothCoefficients dyno{in.coefficients->Ktc_N_per_m2,
-                                           in.coefficients->Krc_N_per_m2};
+    // 000 sec. 5.1 models the force by the dynamometer's Kt, Kr without its edge terms.
+    const estimate::ToothCoefficients dyno = without_edge_terms(*in.coefficients);
     const std::vector<estimate::ToothCoefficients> dyno_teeth(static_cast<std::size_t>(tool.teeth),
                                                               dyno);
 
@@ -291,9 +286,8 @@ CutEstimation run_cut_estimation(const TestSpec& t, const CutStepInputs& in,
 
     // Ramped cuts: the cut simulated with the identified values (000 table 5.1).
     if (t.kind_spec<CutSpec>().axial_depth_m.first != t.kind_spec<CutSpec>().axial_depth_m.second) {
-      const milling::AxisModal axis{out.modal.m_kg, out.modal.c_kg_s, out.modal.k_N_m};
-      const milling::SimulationOptions model =
-          cut_model(t, tool, axis, axis, simulator_coefficients(out.coefficients));
+      const milling::AxisModal axis = modal_parameters_of(out.modal);
+      const milling::SimulationOptions model = cut_model(t, tool, axis, axis, out.coefficients);
       out.simulated.resize(2);
       const milling::ChipModel models[] = {milling::ChipModel::kTraditional,
                                            milling::ChipModel::kNumerical};

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "analysis/common/cutting_coefficients.h"
 #include "analysis/dynamics/noise_level.h"
 #include "analysis/dynamics/revolution_sampling.h"
 #include "analysis/milling/simulation_options.h"
@@ -24,15 +25,11 @@ void run_offset(const TestSpec& t, const CutStepInputs& in, const sync::TipDefle
   const frf::Mode& my = in.hammer_y ? *in.hammer_y : *in.hammer_x;
   // The dyno coefficients for every tooth, without edge terms (000 sec. 5.1 uses Kt, Kr).
   const milling::SimulationOptions o =
-      cut_model(t, *in.tool, {in.hammer_x->m_kg, in.hammer_x->c_kg_s, in.hammer_x->k_N_m},
-                {my.m_kg, my.c_kg_s, my.k_N_m},
-                std::vector<milling::CuttingCoefficients>(
-                    static_cast<std::size_t>(in.tool->teeth),
-                    milling::cutting_coefficients(in.coefficients->Ktc_N_per_m2,
-                                                  in.coefficients->Krc_N_per_m2)));
-  sync::CutSchedule schedule{
-      t.kind_spec<CutSpec>().cut_window_s.first, t.kind_spec<CutSpec>().cut_window_s.second,
-      t.kind_spec<CutSpec>().axial_depth_m.first, t.kind_spec<CutSpec>().axial_depth_m.second};
+      cut_model(t, *in.tool, *in.hammer_x, my,
+                std::vector<CuttingCoefficients>(static_cast<std::size_t>(in.tool->teeth),
+                                                 without_edge_terms(*in.coefficients)));
+  sync::CutSchedule schedule{t.kind_spec<CutSpec>().cut_window_s.first, t.kind_spec<CutSpec>().cut_window_s.second,
+                             t.kind_spec<CutSpec>().axial_depth_m.first, t.kind_spec<CutSpec>().axial_depth_m.second};
   // Constant depth: the last settled revolutions. Ramp: revolutions around 1 mm or the middle
   // of the ramp when it does not reach 1 mm (000 figs 5.9-5.14 compare near 2 mm in chatter-
   // free cutting; a depth below the bifurcation keeps the comparison on the periodic orbit).

@@ -6,17 +6,15 @@
 #include <cmath>
 #include <string>
 
+#include "analysis/common/constants.h"
 #include "analysis/cutting/slot_synth.h"
 
 namespace chatterlab {
 namespace cutting {
 namespace {
 
-constexpr double kPi = 3.141592653589793238463;
-constexpr double kDeg = kPi / 180.0;
-
 // 000 appendix, 6061-T6511, "30-deg Uncoated A".
-const milling::CuttingCoefficients kAppendix{5.89e8, 9.08e3, 3.19e8, 11.3e3};
+const milling::CuttingCoefficients kAppendix{5.89e8, 3.19e8, 9.08e3, 11.3e3};
 
 // The spindle runs at 8973.4 rpm for a 9000 rpm setting (0.3 % low, as a loaded spindle
 // does): the analysis is given the nominal speed and measures the real one from the pulses.
@@ -30,10 +28,10 @@ constexpr double kActualRpm = 8973.4;
 // that demodulation locates to within the gap between folded sample phases. Measured 0.010 deg
 // worst on clean records and 0.036 deg worst over 30 noisy seeds (docs/dyno-coefficients.md);
 // 0.1 deg is the refinement target of the brief.
-constexpr double kThetaTolEdgeRad = 0.1 * kDeg;
+constexpr double kThetaTolEdgeRad = 0.1 * kDegToRad;
 // Without edge forces |D| has a flat (quadratic) peak and noise moves it: measured 0.51 deg
 // worst, 0.25 deg RMS over 29 seeds at 2 N noise; 0.8 deg is about 3 RMS.
-constexpr double kThetaTolNoEdgeRad = 0.8 * kDeg;
+constexpr double kThetaTolNoEdgeRad = 0.8 * kDegToRad;
 
 SlotRecordSpec base_spec() {
   SlotRecordSpec s;
@@ -53,12 +51,12 @@ SlotRecordSpec base_spec() {
 // Mean |F_t|, |F_r| over a revolution for chip h |sin theta| with one tooth cutting:
 // (2/pi) b Kc h + b Ke (docs/dyno-coefficients.md).
 double mean_ft(const SlotRecordSpec& s) {
-  return 2.0 / kPi * s.coefficients.Ktc_N_per_m2 * s.depth_m * s.feed_per_tooth_m +
-         s.coefficients.Kte_N_per_m * s.depth_m;
+  return 2.0 / kPi * s.coefficients.Kt_N_m2 * s.depth_m * s.feed_per_tooth_m +
+         s.coefficients.Kte_N_m * s.depth_m;
 }
 double mean_fr(const SlotRecordSpec& s) {
-  return 2.0 / kPi * s.coefficients.Krc_N_per_m2 * s.depth_m * s.feed_per_tooth_m +
-         s.coefficients.Kre_N_per_m * s.depth_m;
+  return 2.0 / kPi * s.coefficients.Kr_N_m2 * s.depth_m * s.feed_per_tooth_m +
+         s.coefficients.Kre_N_m * s.depth_m;
 }
 
 // Distance between two angles modulo pi (theta_dyn is defined modulo pi).
@@ -137,8 +135,8 @@ TEST(AnalyseSlotRecord, WithoutEdgeForcesTheChangeIsAZeroCrossing) {
   // change). Demodulation still finds it; noise widens the error (see kThetaTolNoEdgeRad).
   for (int seed = 1; seed <= 30; ++seed) {
     SlotRecordSpec s = base_spec();
-    s.coefficients.Kte_N_per_m = 0.0;
-    s.coefficients.Kre_N_per_m = 0.0;
+    s.coefficients.Kte_N_m = 0.0;
+    s.coefficients.Kre_N_m = 0.0;
     s.theta_dyn_rad = -1.2 + 0.08 * seed;
     s.initial_tool_angle_rad = 0.37 + 0.91 * seed;
     s.noise_std_N = seed == 1 ? 0.0 : 2.0;
@@ -174,11 +172,11 @@ TEST(SwitchingPhase, SquareWaveTimesConstantVector) {
     F.col(static_cast<Eigen::Index>(k)) = sgn * Eigen::Vector2d(3.0, 4.0);
   }
   double contrast = -1.0;
-  const double psi = switching_phase_rad(phi, F, 1.0 * kDeg, 0.0001, &contrast);
+  const double psi = switching_phase_rad(phi, F, 1.0 * kDegToRad, 0.0001, &contrast);
   EXPECT_NEAR(psi, 0.7, kGapTolRad);
   EXPECT_NEAR(contrast, 1.0, 1e-12);
   // The same wave shifted by pi gives the same switching phase (modulo pi).
-  const double psi2 = switching_phase_rad(phi, -F, 1.0 * kDeg, 0.0001);
+  const double psi2 = switching_phase_rad(phi, -F, 1.0 * kDegToRad, 0.0001);
   EXPECT_NEAR(psi2, 0.7, kGapTolRad);
 }
 
@@ -202,7 +200,7 @@ TEST(AnalyseSlotRecord, CommensurateSamplingLimitsThetaResolution) {
   // located only to that gap, and the plateau centre is within half of it (0.18 deg) of the
   // truth; the documented resolution limit, not a noise effect (clean records). Where the
   // change falls in the gap depends on the start angle, hence the sweep.
-  constexpr double kHalfGapRad = 0.5 * 0.36 * kDeg + 0.01 * kDeg;  // + fine-grid step
+  constexpr double kHalfGapRad = 0.5 * 0.36 * kDegToRad + 0.01 * kDegToRad;  // + fine-grid step
   double worst = 0.0;
   for (int k = 0; k < 20; ++k) {
     SlotRecordSpec s = base_spec();

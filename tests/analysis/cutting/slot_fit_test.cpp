@@ -4,16 +4,17 @@
 
 #include <cmath>
 
+#include "analysis/common/constants.h"
+
 namespace chatterlab {
 namespace cutting {
 namespace {
 
-constexpr double kPi = 3.141592653589793238463;
 // Straight-line data fitted by OLS: exact up to rounding of sums of ~10 terms.
 constexpr double kExactRelTol = 1e-9;
 
 // 000 appendix, 6061-T6511, "30-deg Uncoated A".
-const milling::CuttingCoefficients kAppendix{5.89e8, 9.08e3, 3.19e8, 11.3e3};
+const milling::CuttingCoefficients kAppendix{5.89e8, 3.19e8, 9.08e3, 11.3e3};
 
 struct Campaign {
   Eigen::VectorXd h, b, ft, fr;
@@ -27,10 +28,10 @@ Campaign closed_form(double c) {
   k.h << 0.025e-3, 0.050e-3, 0.075e-3, 0.100e-3, 0.125e-3, 0.150e-3;
   k.b.resize(6);
   k.b << 1.0e-3, 1.5e-3, 1.0e-3, 1.5e-3, 1.0e-3, 1.5e-3;
-  k.ft = k.b.cwiseProduct(c * kAppendix.Ktc_N_per_m2 * k.h +
-                          Eigen::VectorXd::Constant(6, kAppendix.Kte_N_per_m));
-  k.fr = k.b.cwiseProduct(c * kAppendix.Krc_N_per_m2 * k.h +
-                          Eigen::VectorXd::Constant(6, kAppendix.Kre_N_per_m));
+  k.ft = k.b.cwiseProduct(c * kAppendix.Kt_N_m2 * k.h +
+                          Eigen::VectorXd::Constant(6, kAppendix.Kte_N_m));
+  k.fr = k.b.cwiseProduct(c * kAppendix.Kr_N_m2 * k.h +
+                          Eigen::VectorXd::Constant(6, kAppendix.Kre_N_m));
   return k;
 }
 
@@ -42,10 +43,10 @@ TEST(FitSlotCoefficients, ExactLinesGiveTheCoefficients) {
   EXPECT_EQ(r.records, 6);
   EXPECT_EQ(r.distinct_feeds, 6);
   EXPECT_EQ(r.mean_force_model, SlotMeanForceModel::kSingleToothChip);
-  EXPECT_NEAR(r.coefficients.Ktc_N_per_m2 / 5.89e8, 1.0, kExactRelTol);
-  EXPECT_NEAR(r.coefficients.Kte_N_per_m / 9.08e3, 1.0, kExactRelTol);
-  EXPECT_NEAR(r.coefficients.Krc_N_per_m2 / 3.19e8, 1.0, kExactRelTol);
-  EXPECT_NEAR(r.coefficients.Kre_N_per_m / 11.3e3, 1.0, kExactRelTol);
+  EXPECT_NEAR(r.coefficients.Kt_N_m2 / 5.89e8, 1.0, kExactRelTol);
+  EXPECT_NEAR(r.coefficients.Kte_N_m / 9.08e3, 1.0, kExactRelTol);
+  EXPECT_NEAR(r.coefficients.Kr_N_m2 / 3.19e8, 1.0, kExactRelTol);
+  EXPECT_NEAR(r.coefficients.Kre_N_m / 11.3e3, 1.0, kExactRelTol);
   EXPECT_NEAR(r.tangential.r_squared, 1.0, 1e-12);
   EXPECT_LT(r.tangential.rms_residual_N, 1e-9);
   // The fitted line reproduces a point for plotting: slope = (2/pi) Ktc, 000 eq 3.7 / b.
@@ -62,16 +63,16 @@ TEST(FitSlotCoefficients, DissertationConventionHalvesCuttingTerms) {
   const SlotCoefficients a = fit_slot_coefficients(k.h, k.ft, k.fr, k.b);
   const SlotCoefficients d = fit_slot_coefficients(k.h, k.ft, k.fr, k.b, doc);
   ASSERT_TRUE(d.summary.ok);
-  EXPECT_EQ(d.coefficients.Ktc_N_per_m2 * 2.0, a.coefficients.Ktc_N_per_m2);
-  EXPECT_EQ(d.coefficients.Krc_N_per_m2 * 2.0, a.coefficients.Krc_N_per_m2);
-  EXPECT_EQ(d.coefficients.Kte_N_per_m, a.coefficients.Kte_N_per_m);
-  EXPECT_EQ(d.coefficients.Kre_N_per_m, a.coefficients.Kre_N_per_m);
+  EXPECT_EQ(d.coefficients.Kt_N_m2 * 2.0, a.coefficients.Kt_N_m2);
+  EXPECT_EQ(d.coefficients.Kr_N_m2 * 2.0, a.coefficients.Kr_N_m2);
+  EXPECT_EQ(d.coefficients.Kte_N_m, a.coefficients.Kte_N_m);
+  EXPECT_EQ(d.coefficients.Kre_N_m, a.coefficients.Kre_N_m);
   // And on data made by eq 3.5 as printed (4/pi), that convention returns its coefficients.
   const Campaign printed = closed_form(4.0 / kPi);
   const SlotCoefficients p =
       fit_slot_coefficients(printed.h, printed.ft, printed.fr, printed.b, doc);
-  EXPECT_NEAR(p.coefficients.Ktc_N_per_m2 / 5.89e8, 1.0, kExactRelTol);
-  EXPECT_NEAR(p.coefficients.Krc_N_per_m2 / 3.19e8, 1.0, kExactRelTol);
+  EXPECT_NEAR(p.coefficients.Kt_N_m2 / 5.89e8, 1.0, kExactRelTol);
+  EXPECT_NEAR(p.coefficients.Kr_N_m2 / 3.19e8, 1.0, kExactRelTol);
   EXPECT_DOUBLE_EQ(mean_force_slope_factor(SlotMeanForceModel::kSingleToothChip), 2.0 / kPi);
   EXPECT_DOUBLE_EQ(mean_force_slope_factor(SlotMeanForceModel::kDissertationEq3_5), 4.0 / kPi);
 }
@@ -91,7 +92,7 @@ TEST(FitSlotCoefficients, ResidualAndRSquaredByHand) {
   EXPECT_NEAR(r.tangential.intercept_N_per_m / 1e4, 1.0, kExactRelTol);
   EXPECT_NEAR(r.tangential.rms_residual_N, std::sqrt(50.0), 1e-9);
   EXPECT_NEAR(r.tangential.r_squared, 0.25, 1e-12);
-  EXPECT_NEAR(r.coefficients.Ktc_N_per_m2 / (kPi * 5e7 / 2.0), 1.0, kExactRelTol);
+  EXPECT_NEAR(r.coefficients.Kt_N_m2 / (kPi * 5e7 / 2.0), 1.0, kExactRelTol);
   ASSERT_EQ(r.summary.warnings.size(), 2u);  // both lines (same data)
   EXPECT_EQ(r.summary.warnings[0],
             "tangential line: R^2 = 0.25 < 0.95: mean force is not linear in feed");
@@ -120,7 +121,7 @@ TEST(FitSlotCoefficients, FewerThanTwoDistinctFeedsFails) {
   EXPECT_EQ(r.summary.message,
             "fewer than 2 distinct feeds: 1 among 3 records; a line in feed needs at least 2 "
             "(000 eqs 3.7-3.8)");
-  EXPECT_TRUE(std::isnan(r.coefficients.Ktc_N_per_m2));
+  EXPECT_TRUE(std::isnan(r.coefficients.Kt_N_m2));
   const Eigen::VectorXd none;
   EXPECT_EQ(fit_slot_coefficients(none, none, none, none).summary.message,
             "fewer than 2 distinct feeds: 0 among 0 records; a line in feed needs at least 2 "

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 #include "analysis/signal/pulses.h"
 
@@ -11,10 +12,8 @@ namespace chatterlab {
 namespace cutting {
 namespace {
 
-constexpr double kPi = 3.141592653589793238463;
-
 // 000 appendix, 6061-T6511, "30-deg Uncoated A".
-const milling::CuttingCoefficients kAppendix{5.89e8, 9.08e3, 3.19e8, 11.3e3};
+const milling::CuttingCoefficients kAppendix{5.89e8, 3.19e8, 9.08e3, 11.3e3};
 
 SlotRecordSpec clean_spec() {
   SlotRecordSpec s;
@@ -74,8 +73,8 @@ TEST(SlotSynth, Eqs31And32RecoverTheForceModel) {
   for (Eigen::Index i : {7, 100, 1234, 4999}) {
     const double theta = s.initial_tool_angle_rad + omega * static_cast<double>(i) / s.fs_hz;
     const double chip = s.feed_per_tooth_m * std::abs(std::sin(theta));
-    const double ft = kAppendix.Ktc_N_per_m2 * s.depth_m * chip + kAppendix.Kte_N_per_m * s.depth_m;
-    const double fr = kAppendix.Krc_N_per_m2 * s.depth_m * chip + kAppendix.Kre_N_per_m * s.depth_m;
+    const double ft = kAppendix.Kt_N_m2 * s.depth_m * chip + kAppendix.Kte_N_m * s.depth_m;
+    const double fr = kAppendix.Kr_N_m2 * s.depth_m * chip + kAppendix.Kre_N_m * s.depth_m;
     EXPECT_NEAR(std::abs(r.Fx_N[i] * c + r.Fy_N[i] * sn), ft, kForceTolN) << i;
     EXPECT_NEAR(std::abs(-r.Fx_N[i] * sn + r.Fy_N[i] * c), fr, kForceTolN) << i;
   }
@@ -107,12 +106,12 @@ TEST(SlotSynth, OffsetsAndSeededNoise) {
 
 TEST(SlotSynth, RejectsBadSpec) {
   SlotRecordSpec s = clean_spec();
-  s.coefficients.Krc_N_per_m2 = std::nan("");
+  s.coefficients.Kr_N_m2 = std::nan("");
   try {
     generate_slot_record(s);
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
-    EXPECT_STREQ(e.what(), "slot_record.coefficients.Krc_N_per_m2 = nan: must be finite");
+    EXPECT_STREQ(e.what(), "slot_record.coefficients.Kr_N_m2 = nan: must be finite");
   }
   s = clean_spec();
   s.zero_pulse_width_s = 4e-3;  // a revolution lasts 6.67 ms at 9000 rpm

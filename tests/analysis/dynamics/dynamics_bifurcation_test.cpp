@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 #include "analysis/dynamics/bifurcation.h"
 #include "analysis/dynamics/orbit_synth.h"
@@ -243,7 +244,7 @@ TEST(Bifurcation, ConstantDepthRunReportsStateOnly) {
   // transition is listed, there is still no bifurcation depth (the format leaves it out).
   Eigen::VectorXd x = stable.x_m;
   for (Eigen::Index i = 1500; i < x.size(); ++i) {
-    x[i] += 1e-5 * std::cos(2 * 3.14159265358979 * 0.618034 * static_cast<double>(i));
+    x[i] += 1e-5 * std::cos(kTwoPi * 0.618034 * static_cast<double>(i));
   }
   const BifurcationResult b = detect_bifurcation(stable.depth_m, x);
   EXPECT_EQ(b.profile, DepthProfile::kConstant);
@@ -311,8 +312,7 @@ TEST(Bifurcation, ChatterLastingAWindowIsAnIslandAndAQuietGapEndsChatter) {
     const SyntheticOrbit oc = synthesize_orbit(c);
     Eigen::VectorXd y = oc.x_m;
     for (Eigen::Index i = 4000; i < 4000 + gap; ++i) {
-      y[i] -=
-          1e-5 * std::cos(2 * 3.14159265358979323846 * 0.6180339887498949 * static_cast<double>(i));
+      y[i] -= 1e-5 * std::cos(kTwoPi * 0.6180339887498949 * static_cast<double>(i));
     }
     const BifurcationResult rc = detect_bifurcation(oc.depth_m, y);
     EXPECT_EQ(rc.transitions.size(), gap == 60 ? 1u : 3u) << gap << "\n" << full_report(rc);

@@ -6,6 +6,7 @@
 #include <random>
 #include <vector>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 #include "analysis/dynamics/local_spread.h"
 
@@ -13,7 +14,6 @@ namespace chatterlab {
 namespace dynamics {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kW = 61;  // the default window (BifurcationOptions)
 
 // Second method for one window: the quadratic trend by Householder QR (not the normal

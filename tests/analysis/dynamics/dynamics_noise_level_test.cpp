@@ -3,14 +3,13 @@
 #include <cmath>
 #include <random>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 #include "analysis/dynamics/noise_level.h"
 
 namespace chatterlab {
 namespace dynamics {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 TEST(WhiteNoiseSigma, RecoversNoiseOnAChatteringDeflection) {
   // 1 s at 100 kHz of a 900 Hz, 1e-4 m deflection (the largest chatter of interest) plus a

@@ -2,14 +2,13 @@
 
 #include <cmath>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 #include "analysis/dynamics/orbit_synth.h"
 
 namespace chatterlab {
 namespace dynamics {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 TEST(OrbitSynth, BuildsTheStatedTruth) {
   OrbitSpec spec;

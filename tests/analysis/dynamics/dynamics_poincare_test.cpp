@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 #include "analysis/dynamics/orbit_synth.h"
 #include "analysis/dynamics/poincare.h"
@@ -106,7 +107,7 @@ TEST(OrbitClass, DeformedEllipseIsARing) {
   const double nu = 0.6180339887498949;
   Eigen::VectorXd x(400);
   for (Eigen::Index i = 0; i < x.size(); ++i) {
-    const double phi = 2 * 3.14159265358979323846 * nu * static_cast<double>(i);
+    const double phi = kTwoPi * nu * static_cast<double>(i);
     x[i] = a * (std::cos(phi) + 0.3 * std::cos(2 * phi + 1));
   }
   const Eigen::VectorXd depth = Eigen::VectorXd::Constant(x.size(), 2 * kMm);
@@ -122,7 +123,7 @@ TEST(OrbitClass, FourClustersWithTwoOnTheTrendArePeriodFour) {
   // scale would take for period two; the upper quartile does not.
   Eigen::VectorXd x(100);
   for (Eigen::Index i = 0; i < x.size(); ++i) {
-    x[i] = 2e-5 * std::cos(0.5 * 3.14159265358979323846 * static_cast<double>(i));
+    x[i] = 2e-5 * std::cos(0.5 * kPi * static_cast<double>(i));
   }
   const Eigen::VectorXd depth = Eigen::VectorXd::Constant(x.size(), 2 * kMm);
   const OrbitClass c = classify_orbit(poincare_map_at_revolution(depth, x, 50), kNoise);

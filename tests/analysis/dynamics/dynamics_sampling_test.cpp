@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 #include "analysis/dynamics/revolution_sampling.h"
 
@@ -9,7 +10,6 @@ namespace chatterlab {
 namespace dynamics {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kFs = 100000.0;               // Hz, the cut-test sample rate of 000 sec. 3.1
 constexpr double kOmega = 15000.0 * kPi / 30;  // rad/s at 15,000 rpm
 

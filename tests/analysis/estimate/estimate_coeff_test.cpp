@@ -1,11 +1,11 @@
 // Cutting-coefficient EKFs (000 secs 4.4, 6.2) on simulated cuts with known truth.
 //
-// Conditions as estimate_modal_test.cpp (synthetic_cut.h: 000 table 5.2 incline 1 at a
-// constant 1 mm, simulated at 5e-7 s, 100 kHz acquisition with 5e-7 m noise, spline to
-// 5e-7 s, 0.2 s of data); known modal m, c, k of table 5.2. Truth: Kt1 = 2.483e8,
-// Kr1 = 2.196e8, Kt2 = 6.641e9, Kr2 = 4.154e9 N/m^2 (tooth 2 27 times tooth 1). Initial
-// estimates: 000 sec. 6.1's randomized values (Kt1 = 1.493e8, Kr1 = 2.315e8, Kt2 = 4.257e9,
-// Kr2 = 3.106e9: -40 %, +5 %, -36 %, -25 %).
+// Conditions as estimate_modal_test.cpp (tests/support/synthetic_cuts.h: 000 table 5.2 incline 1 at
+// a constant 1 mm, simulated at 5e-7 s, 100 kHz acquisition with 5e-7 m noise, spline to 5e-7 s,
+// 0.2 s of data); known modal m, c, k of table 5.2. Truth: Kt1 = 2.483e8, Kr1 = 2.196e8, Kt2
+// = 6.641e9, Kr2 = 4.154e9 N/m^2 (tooth 2 27 times tooth 1). Initial estimates: 000 sec. 6.1's
+// randomized values (Kt1 = 1.493e8, Kr1 = 2.315e8, Kt2 = 4.257e9, Kr2 = 3.106e9: -40 %, +5 %, -36
+// %, -25 %).
 //
 // Acceptance (the brief): per-tooth coefficients within 2 % after 0.2 s of data.
 #include <gtest/gtest.h>
@@ -14,8 +14,8 @@
 #include <string>
 
 #include "analysis/estimate/ekf_variants.h"
-#include "synthetic_cut.h"
 #include "tests/support/record_property.h"
+#include "tests/support/synthetic_cuts.h"
 
 namespace chatterlab {
 namespace estimate {

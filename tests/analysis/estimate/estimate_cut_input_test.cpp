@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 #include "analysis/estimate/cut_input.h"
 #include "analysis/estimate/spline_resample.h"
@@ -11,8 +12,6 @@
 namespace chatterlab {
 namespace estimate {
 namespace {
-
-constexpr double kPi = 3.141592653589793238463;
 
 // Two revolutions of 000 table 5.2's incline-1 cut at 1 mm, recorded at the simulator's step,
 // as a MeasuredCut (no noise, no resampling) with the simulator's own chips and forces.

@@ -1,6 +1,6 @@
 // The identification sequence of 000 sec. 5.1 iterated to a fixed point (identification.h), on a
-// simulated cut with known truth (synthetic_cut.h: 000 table 5.2 incline 1 at 1 mm, 0.2 s,
-// 5e-7 m noise, resampled to 5e-7 s) seen through a tachometer whose edge falls at an offset
+// simulated cut with known truth (tests/support/synthetic_cuts.h: 000 table 5.2 incline 1 at 1 mm,
+// 0.2 s, 5e-7 m noise, resampled to 5e-7 s) seen through a tachometer whose edge falls at an offset
 // angle of 146.7 deg, starting from the hammer-test and dynamometer values of 000 sec. 5.1 and
 // an offset 0.6 deg off.
 //
@@ -15,8 +15,8 @@
 #include "analysis/common/summary.h"
 #include "analysis/estimate/identification.h"
 #include "analysis/milling/simulation.h"
-#include "synthetic_cut.h"
 #include "tests/support/record_property.h"
+#include "tests/support/synthetic_cuts.h"
 
 namespace chatterlab {
 namespace estimate {
@@ -36,9 +36,6 @@ constexpr double kDampingTolerance = 0.10;
 constexpr int kOffsetGridPoints = 163;
 constexpr double kTrueOffsetDeg = 0.9 * kOffsetGridPoints;
 
-// 000 sec. 5.1's dynamometer coefficients (alike teeth).
-ToothCoefficients dynamometer() { return {5.89e8, 3.19e8}; }
-
 // The window as the tachometer sees it: theta_1 - offset (identification.h takes the
 // tachometer phase and adds each pass's offset).
 const MeasuredCut& window() {
@@ -54,13 +51,7 @@ const MeasuredCut& window() {
 // of 60 simulated ones) at phase phi_j = 2 pi j / 400, i.e. at theta_1 = phi_j + offset.
 const sync::RevolutionMean& measured_mean() {
   static const sync::RevolutionMean m = [] {
-    milling::SimulationOptions o;
-    const ModalParameters t = table52_modal();
-    o.modal_x = {t.m_kg, t.c_kg_s, t.k_N_m};
-    o.coefficients.clear();
-    for (const ToothCoefficients& k : table52_coefficients()) {
-      o.coefficients.push_back(milling::cutting_coefficients(k.Kt_N_m2, k.Kr_N_m2));
-    }
+    milling::SimulationOptions o = testing::table52_incline1();
     o.depth = milling::DepthProfile::constant(1e-3, 60);
     milling::RecordingRequest rq;
     rq.full_revolutions = {59};
@@ -91,7 +82,7 @@ IdentificationInputs inputs() {
   in.initial_offset_deg = kTrueOffsetDeg + 0.6;
   in.offset_depth_m = 1e-3;
   in.hammer = hammer_modal();
-  in.dynamometer = dynamometer();
+  in.dynamometer = testing::dynamometer_coefficients();
   return in;
 }
 

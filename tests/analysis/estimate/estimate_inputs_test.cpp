@@ -7,7 +7,7 @@
 #include "analysis/common/summary.h"
 #include "analysis/estimate/ekf_variants.h"
 #include "analysis/estimate/modal_sequence.h"
-#include "synthetic_cut.h"
+#include "tests/support/synthetic_cuts.h"
 
 namespace chatterlab {
 namespace estimate {

@@ -1,7 +1,7 @@
 // Modal-parameter EKFs (000 secs 4.3, 5.1, 6.1) on a simulated cut with known truth.
 //
-// Conditions (synthetic_cut.h): 000 table 5.2 incline-1 parameters (truth m = 0.03134 kg,
-// c = 22.21 kg/s, k = 9.840e5 N/m; known Kt, Kr per tooth), 15,000 rpm, h = 0.0635 mm,
+// Conditions (tests/support/synthetic_cuts.h): 000 table 5.2 incline-1 parameters (truth m =
+// 0.03134 kg, c = 22.21 kg/s, k = 9.840e5 N/m; known Kt, Kr per tooth), 15,000 rpm, h = 0.0635 mm,
 // r_i = 0.382 mm, r = 6.35 mm, two teeth, up-milling, constant depth 1 mm; simulated at 5e-7 s,
 // acquired at 100 kHz with 5e-7 m white noise on x and y, resampled by not-a-knot cubic spline
 // to 5e-7 s; 0.2 s of data (396,000 filter steps after the first tooth period). Initial
@@ -16,8 +16,8 @@
 
 #include "analysis/estimate/ekf_variants.h"
 #include "analysis/estimate/modal_sequence.h"
-#include "synthetic_cut.h"
 #include "tests/support/record_property.h"
+#include "tests/support/synthetic_cuts.h"
 
 namespace chatterlab {
 namespace estimate {

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <string>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 #include "analysis/estimate/observability.h"
 #include "analysis/milling/simulation.h"
@@ -55,7 +56,7 @@ OperatingPoint point(int a) {
   StepChips c;
   c.teeth = 2;
   for (int t = 0; t < 2; ++t) {
-    const double theta = r.theta1_rad[a] + t * 3.141592653589793238463;
+    const double theta = r.theta1_rad[a] + t * kPi;
     ToothChip& tc = c.tooth[static_cast<std::size_t>(t)];
     tc.sin_theta = std::sin(theta);
     tc.cos_theta = std::cos(theta);

@@ -1,7 +1,8 @@
 // The observability operating point (operating_point.h) on a simulated cut with known truth
-// (synthetic_cut.h, 000 table 5.2 incline 1 at 1 mm): the sample against a brute-force search,
-// the states and inputs against their definitions, and the ranks 000 sec. 4.5 reports (3 of 5
-// for ekf-modal-x, 6 of 7 for ekf-modal-xy, 6 of 6 for ekf-coeff-xy while a tooth cuts).
+// (tests/support/synthetic_cuts.h, 000 table 5.2 incline 1 at 1 mm): the sample against a
+// brute-force search, the states and inputs against their definitions, and the ranks 000 sec. 4.5
+// reports (3 of 5 for ekf-modal-x, 6 of 7 for ekf-modal-xy, 6 of 6 for ekf-coeff-xy while a tooth
+// cuts).
 #include <gtest/gtest.h>
 
 #include <map>
@@ -9,7 +10,7 @@
 
 #include "analysis/estimate/observability.h"
 #include "analysis/estimate/operating_point.h"
-#include "synthetic_cut.h"
+#include "tests/support/synthetic_cuts.h"
 
 namespace chatterlab {
 namespace estimate {

@@ -7,8 +7,8 @@
 #include <string>
 
 #include "analysis/estimate/repeatability.h"
-#include "synthetic_cut.h"
 #include "tests/support/record_property.h"
+#include "tests/support/synthetic_cuts.h"
 
 namespace chatterlab {
 namespace estimate {

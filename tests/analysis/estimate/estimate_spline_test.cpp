@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <string>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 #include "analysis/estimate/spline_resample.h"
 #include "tests/support/record_property.h"
@@ -11,8 +12,6 @@
 namespace chatterlab {
 namespace estimate {
 namespace {
-
-constexpr double kPi = 3.141592653589793238463;
 
 using chatterlab::testing::record;
 

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "analysis/common/constants.h"
 #include "analysis/frf/frf.h"
 #include "analysis/frf/hits.h"
 #include "analysis/frf/modal_fit.h"
@@ -143,8 +144,7 @@ TEST(ModalFitChain, AutomaticExponentialWindowDampingIsRemoved) {
   const Chain c = run_chain({light}, ResponseKind::kAcceleration, 15);
   ASSERT_TRUE(c.fit.summary.ok) << c.fit.summary.message;
   std::printf("tau %.4f s, 1/(tau wn) = %.5f, fit %.2f %%\n", c.frf.exp_window_tau_s,
-              1.0 / (c.frf.exp_window_tau_s * 2.0 * 3.14159265358979 * light.fn_hz),
-              c.fit.fit_nrmse_pct);
+              1.0 / (c.frf.exp_window_tau_s * kTwoPi * light.fn_hz), c.fit.fit_nrmse_pct);
   EXPECT_GT(c.frf.exp_window_tau_s, 0.0);
   ASSERT_EQ(c.fit.modes.size(), 1u);
   expect_mode("auto exponential window", c.fit.modes[0], light);

@@ -6,14 +6,13 @@
 #include <complex>
 #include <vector>
 
+#include "analysis/common/constants.h"
 #include "analysis/frf/modal_model.h"
 #include "analysis/frf/mode.h"
 
 namespace chatterlab {
 namespace frf {
 namespace {
-
-constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
 
 ModalModel two_modes_with_residuals() {
   ModalModel m;

@@ -5,6 +5,7 @@
 #include <complex>
 #include <cstdio>
 
+#include "analysis/common/constants.h"
 #include "analysis/frf/modal_response.h"
 #include "analysis/signal/fft.h"
 
@@ -12,7 +13,6 @@ namespace chatterlab {
 namespace frf {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 const Mode kTool = mode_from_mck(0.03134, 22.21, 9.840e5);  // 000 sec. 5.1
 constexpr double kFs = 25600.0;
 

@@ -6,6 +6,7 @@
 #include <complex>
 #include <cstdio>
 
+#include "analysis/common/constants.h"
 #include "analysis/frf/modal_response.h"
 #include "analysis/frf/windows.h"
 #include "analysis/signal/fft.h"
@@ -13,8 +14,6 @@
 namespace chatterlab {
 namespace frf {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 TEST(Windows, ForceWindowKeepsThePulseAndZeroesTheRest) {
   // Pulse on samples [40, 45): margin = 5 samples (factor 1), flat on [35, 50), cosine tapers

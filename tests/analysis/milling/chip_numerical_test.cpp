@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <string>
 
+#include "analysis/common/constants.h"
 #include "analysis/milling/chip_traditional.h"
 #include "analysis/milling/engagement.h"
 #include "analysis/milling/simulation.h"
@@ -14,8 +15,6 @@
 namespace chatterlab {
 namespace milling {
 namespace {
-
-constexpr double kPi = 3.141592653589793238463;
 
 using chatterlab::testing::record;
 

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 #include "analysis/milling/force_model.h"
 #include "analysis/milling/simulation.h"
@@ -12,7 +13,6 @@ namespace chatterlab {
 namespace milling {
 namespace {
 
-constexpr double kPi = 3.141592653589793238463;
 constexpr double kR = 6.35e-3, kRi = 0.382e-3;  // 000 sec. 5.2
 
 TEST(Engagement, UpMillingIsEqs28To29) {

@@ -4,13 +4,13 @@
 
 #include <cmath>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 
 namespace chatterlab {
 namespace milling {
 namespace {
 
-constexpr double kPi = 3.141592653589793238463;
 // Hand-computed values are exact to the digits written; products of a few doubles agree to
 // ~1e-15 relative, so 1e-9 N on forces of ~100 N is rounding only.
 constexpr double kHandTolN = 1e-9;
@@ -18,7 +18,7 @@ constexpr double kHandTolN = 1e-9;
 // Coefficients chosen for round hand arithmetic: b = 2 mm, w = 0.05 mm gives
 //   F_t = 6e8 * 2e-3 * 5e-5 + 1e4 * 2e-3 = 60 + 20 = 80 N,
 //   F_r = 2e8 * 2e-3 * 5e-5 + 1.5e4 * 2e-3 = 20 + 30 = 50 N.
-const CuttingCoefficients kHand{6e8, 1e4, 2e8, 1.5e4};
+const CuttingCoefficients kHand{6e8, 2e8, 1e4, 1.5e4};
 
 TEST(ToothForce, Eqs21And22WithEdgeTermsByHand) {
   const ToothForce f = tooth_force(kHand, 5e-5, 2e-3, true);

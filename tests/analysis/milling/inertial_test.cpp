@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <string>
 
+#include "analysis/common/constants.h"
 #include "analysis/milling/simulation.h"
 #include "tests/support/record_property.h"
 
@@ -14,7 +15,6 @@ namespace chatterlab {
 namespace milling {
 namespace {
 
-constexpr double kPi = 3.141592653589793238463;
 constexpr double kOmega = 15000.0 * 2 * kPi / 60.0;  // 1570.796 rad/s
 // Hand values below are products of a few exact decimals: 1e-12 relative is rounding.
 constexpr double kHandRel = 1e-12;

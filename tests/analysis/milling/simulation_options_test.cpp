@@ -76,11 +76,11 @@ TEST(SimulationOptions, ValidationNamesFieldValueAndRule) {
             "simulation.modal_x.m_kg = nan: must be finite and > 0");
   EXPECT_EQ(error_of([](SimulationOptions& o) { o.coefficients.resize(3, o.coefficients[0]); }),
             "simulation.coefficients.size() = 3: must equal teeth = 2 (one entry per tooth)");
-  EXPECT_EQ(error_of([](SimulationOptions& o) { o.coefficients[1].Kte_N_per_m = NAN; }),
-            "simulation.coefficients[1].Kte_N_per_m = nan: must be finite and >= 0 (0 for no edge "
+  EXPECT_EQ(error_of([](SimulationOptions& o) { o.coefficients[1].Kte_N_m = NAN; }),
+            "simulation.coefficients[1].Kte_N_m = nan: must be finite and >= 0 (0 for no edge "
             "force)");
-  EXPECT_EQ(error_of([](SimulationOptions& o) { o.coefficients[0].Krc_N_per_m2 = -2; }),
-            "simulation.coefficients[0].Krc_N_per_m2 = -2: must be finite and >= 0");
+  EXPECT_EQ(error_of([](SimulationOptions& o) { o.coefficients[0].Kr_N_m2 = -2; }),
+            "simulation.coefficients[0].Kr_N_m2 = -2: must be finite and >= 0");
   EXPECT_EQ(error_of([](SimulationOptions& o) { o.spindle_rpm = 0; }),
             "simulation.spindle_rpm = 0: must be finite and > 0");
   EXPECT_EQ(error_of([](SimulationOptions& o) { o.feed_per_tooth_m = -1e-5; }),
@@ -126,11 +126,11 @@ TEST(SimulationOptions, ValidationNamesFieldValueAndRule) {
 // Edge terms default to 0 through the helper; the added force-model functions by hand.
 TEST(SimulationOptions, CuttingCoefficientsHelperAndSignedToothForce) {
   const CuttingCoefficients k = cutting_coefficients(6e8, 2e8);
-  EXPECT_EQ(k.Kte_N_per_m, 0.0);
-  EXPECT_EQ(k.Kre_N_per_m, 0.0);
+  EXPECT_EQ(k.Kte_N_m, 0.0);
+  EXPECT_EQ(k.Kre_N_m, 0.0);
   // tooth_force_signed: F = K b w + K_e b for any w. b = 2 mm, w = -0.05 mm, Kte = 1e4,
   // Kre = 1.5e4: F_t = -60 + 20 = -40 N, F_r = -20 + 30 = 10 N (tooth_force gives 0 here).
-  const CuttingCoefficients e{6e8, 1e4, 2e8, 1.5e4};
+  const CuttingCoefficients e{6e8, 2e8, 1e4, 1.5e4};
   const ToothForce f = tooth_force_signed(e, -5e-5, 2e-3, true);
   EXPECT_NEAR(f.tangential_N, -40.0, 1e-12);
   EXPECT_NEAR(f.radial_N, 10.0, 1e-12);

@@ -7,14 +7,13 @@
 #include <cstdlib>
 #include <string>
 
+#include "analysis/common/constants.h"
 #include "tests/support/count_allocations.h"
 #include "tests/support/record_property.h"
 
 namespace chatterlab {
 namespace milling {
 namespace {
-
-constexpr double kPi = 3.141592653589793238463;
 
 using chatterlab::testing::record;
 

@@ -7,14 +7,13 @@
 #include <string>
 #include <vector>
 
+#include "analysis/common/constants.h"
 #include "analysis/milling/simulation.h"
 #include "tests/support/record_property.h"
 
 namespace chatterlab {
 namespace milling {
 namespace {
-
-constexpr double kPi = 3.141592653589793238463;
 
 using chatterlab::testing::record;
 

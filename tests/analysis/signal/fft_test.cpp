@@ -9,11 +9,12 @@
 #include <thread>
 #include <vector>
 
+#include "analysis/common/constants.h"
+
 namespace chatterlab {
 namespace signal {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // FFT rounding grows like log2(n) eps ||x||; 1e-12 relative covers n <= 1e4 with margin.
 constexpr double kRelTol = 1e-12;
 

@@ -3,16 +3,14 @@
 #include <cmath>
 #include <cstdio>
 
+#include "analysis/sync/cut_synth.h"
 #include "analysis/sync/offset_angle.h"
 #include "analysis/sync/tip_deflection.h"
-#include "tests/analysis/sync/synthetic_cut.h"
+#include "tests/support/synthetic_cuts.h"
 
 namespace chatterlab {
 namespace sync {
 namespace {
-
-using testing::CutSpec;
-using testing::kPi;
 
 constexpr double kFs = 100000.0;
 constexpr double kRpm = 15000.0;
@@ -25,15 +23,15 @@ double circular_distance_deg(double a, double b, double period = 360.0) {
 
 // The whole chain on a synthetic record: tachometer, tip deflection, comparison window of the
 // last 20 revolutions, mean revolution, offset search with `model`.
-OffsetAngleResult run_chain(const CutSpec& spec, const milling::SimulationOptions& model,
+OffsetAngleResult run_chain(const CutRecordSpec& spec, const milling::SimulationOptions& model,
                             RevolutionMean* measured_out = nullptr) {
-  const testing::CutRecord cut = testing::make_cut(spec);
+  const CutRecord cut = testing::make_cut(spec);
   const TachAngle tach = tach_angle(cut.tach_V, kFs, kRpm);
   EXPECT_TRUE(tach.summary.ok) << tach.summary.message;
   const TipDeflection d = tip_deflection(cut.x_sensor_m, cut.y_sensor_m, tach, spec.sensor_to_tip,
                                          cut.air_start_s, cut.air_end_s);
   EXPECT_TRUE(d.summary.ok) << d.summary.message;
-  const CutSchedule schedule{cut.cut_start_s, cut.cut_end_s, spec.depth_m, spec.depth_m};
+  const CutSchedule schedule{cut.cut_start_s, cut.cut_end_s, cut.depth_start_m, cut.depth_end_m};
   const ComparisonWindow w = comparison_window(schedule, kRpm, 20);
   const RevolutionRange range = whole_revolutions_in(tach, w.start_s, w.end_s);
   EXPECT_EQ(range.count, 20);
@@ -57,12 +55,13 @@ void report(const char* name, const OffsetAngleResult& r, double truth) {
 constexpr double kOffsetTolDeg = 0.5;
 
 TEST(OffsetAngle, UnequalTeethOffsetIsUnique) {
-  CutSpec spec;  // table 5.2 incline 1 (tooth 2 cuts 27 times harder), 1 mm, 147.3 deg
+  // Table 5.2 incline 1 (tooth 2 cuts 27 times harder), 1 mm, 147.3 deg.
+  const CutRecordSpec spec = testing::sync_test_cut();
   RevolutionMean measured;
-  const OffsetAngleResult r = run_chain(spec, spec.params, &measured);
+  const OffsetAngleResult r = run_chain(spec, spec.cut, &measured);
   ASSERT_TRUE(r.summary.ok) << r.summary.message;
-  report("unequal", r, spec.offset_deg);
-  EXPECT_LT(circular_distance_deg(r.search.offset_angle_deg, spec.offset_deg), kOffsetTolDeg);
+  report("unequal", r, spec.offset_angle_deg);
+  EXPECT_LT(circular_distance_deg(r.search.offset_angle_deg, spec.offset_angle_deg), kOffsetTolDeg);
   EXPECT_TRUE(r.summary.warnings.empty());
   EXPECT_FALSE(r.model_teeth_alike);
   // The other half turn is far worse: the teeth are told apart.
@@ -93,12 +92,14 @@ TEST(OffsetAngle, UnequalTeethOffsetIsUnique) {
 }
 
 TEST(OffsetAngle, AlikeTeethOffsetIsDefinedModuloHalfATurn) {
-  CutSpec spec;
-  spec.params = testing::hammer_and_dynamometer();
-  spec.offset_deg = 212.5;
-  const OffsetAngleResult r = run_chain(spec, spec.params);
+  CutRecordSpec spec = testing::sync_test_cut();
+  const milling::DepthProfile depth = spec.cut.depth;
+  spec.cut = testing::hammer_and_dynamometer();
+  spec.cut.depth = depth;
+  spec.offset_angle_deg = 212.5;
+  const OffsetAngleResult r = run_chain(spec, spec.cut);
   ASSERT_TRUE(r.summary.ok) << r.summary.message;
-  report("alike", r, spec.offset_deg);
+  report("alike", r, spec.offset_angle_deg);
   EXPECT_TRUE(r.model_teeth_alike);
   // Reported in [0, 180): 212.5 - 180.
   EXPECT_GE(r.search.offset_angle_deg, 0.0);
@@ -119,11 +120,11 @@ TEST(OffsetAngle, HammerAndDynamometerModelOnTable52Data) {
   // teeth). 000 sec. 5.2: the offset so found was "only a degree or so different" from the one
   // found with the identified parameters. Measured here: 1.2 deg, modulo 180 deg since the
   // model's teeth are alike; 3 deg allows "a degree or so".
-  CutSpec spec;
+  const CutRecordSpec spec = testing::sync_test_cut();
   const OffsetAngleResult r = run_chain(spec, testing::hammer_and_dynamometer());
   ASSERT_TRUE(r.summary.ok) << r.summary.message;
-  report("mismatched", r, spec.offset_deg);
-  EXPECT_LT(circular_distance_deg(r.search.offset_angle_deg, spec.offset_deg, 180.0), 3.0);
+  report("mismatched", r, spec.offset_angle_deg);
+  EXPECT_LT(circular_distance_deg(r.search.offset_angle_deg, spec.offset_angle_deg, 180.0), 3.0);
   EXPECT_TRUE(r.search.ambiguous);
   // The fit is poor (000: "significantly smaller" simulated deflections), yet it places the
   // tooth passes.
@@ -133,26 +134,25 @@ TEST(OffsetAngle, HammerAndDynamometerModelOnTable52Data) {
 TEST(OffsetAngle, RampComparedAtADepthBand) {
   // Incline 0.5 to 1.5 mm at 1,290 revolutions per mm (000 sec. 5.2), compared around 1 mm:
   // 21 revolutions span 0.016 mm.
-  CutSpec spec;
-  spec.depth_m = 0.5e-3;
-  spec.depth_end_m = 1.5e-3;
-  spec.offset_deg = 303.7;
-  const testing::CutRecord cut = testing::make_cut(spec);
+  CutRecordSpec spec = testing::sync_test_cut();
+  spec.cut.depth = milling::DepthProfile::ramp(0.5e-3, 1.5e-3, 1290.0);
+  spec.offset_angle_deg = 303.7;
+  const CutRecord cut = testing::make_cut(spec);
   const TachAngle tach = tach_angle(cut.tach_V, kFs, kRpm);
   ASSERT_TRUE(tach.summary.ok) << tach.summary.message;
   const TipDeflection d = tip_deflection(cut.x_sensor_m, cut.y_sensor_m, tach, spec.sensor_to_tip,
                                          cut.air_start_s, cut.air_end_s);
   ASSERT_TRUE(d.summary.ok) << d.summary.message;
-  const CutSchedule schedule{cut.cut_start_s, cut.cut_end_s, spec.depth_m, spec.depth_end_m};
+  const CutSchedule schedule{cut.cut_start_s, cut.cut_end_s, cut.depth_start_m, cut.depth_end_m};
   const ComparisonWindow w = comparison_window(schedule, kRpm, 20, 1e-3);
   EXPECT_NEAR(w.depth_m, 1e-3, 1e-12);
   const RevolutionRange range = whole_revolutions_in(tach, w.start_s, w.end_s);
   EXPECT_EQ(range.count, 20);
   const RevolutionMean measured = mean_revolution(d.x_m, d.y_m, tach, range, 400);
-  const OffsetAngleResult r = find_offset_angle(measured, spec.params, w.depth_m);
+  const OffsetAngleResult r = find_offset_angle(measured, spec.cut, w.depth_m);
   ASSERT_TRUE(r.summary.ok) << r.summary.message;
-  report("ramp", r, spec.offset_deg);
-  EXPECT_LT(circular_distance_deg(r.search.offset_angle_deg, spec.offset_deg), kOffsetTolDeg);
+  report("ramp", r, spec.offset_angle_deg);
+  EXPECT_LT(circular_distance_deg(r.search.offset_angle_deg, spec.offset_angle_deg), kOffsetTolDeg);
   EXPECT_FALSE(r.search.ambiguous);
 }
 

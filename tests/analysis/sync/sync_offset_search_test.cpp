@@ -2,15 +2,13 @@
 
 #include <cmath>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 #include "analysis/sync/offset_search.h"
 
 namespace chatterlab {
 namespace sync {
 namespace {
-
-constexpr double kPi = 3.141592653589793238463;
-constexpr double kDeg = kPi / 180.0;
 
 // A revolution with two unequal tooth passes: a damped response after each entry, the second
 // tooth four times the first (the shape of 000 figs 5.9-5.14).
@@ -35,7 +33,7 @@ RevolutionMatcher make(double offset_deg, double a1, double a2, int S = 1600, in
     sy[a] = shape_y(th, a1, a2);
   }
   for (int j = 0; j < N; ++j) {
-    const double th = 2 * kPi * j / N + offset_deg * kDeg;
+    const double th = 2 * kPi * j / N + offset_deg * kDegToRad;
     mx[j] = shape_x(th, a1, a2);
     my[j] = shape_y(th, a1, a2);
   }

@@ -4,15 +4,13 @@
 #include <random>
 #include <string>
 
+#include "analysis/common/constants.h"
+#include "analysis/sync/cut_synth.h"
 #include "analysis/sync/tach_angle.h"
-#include "tests/analysis/sync/synthetic_cut.h"
 
 namespace chatterlab {
 namespace sync {
 namespace {
-
-using testing::kPi;
-using testing::tach_volts;
 
 constexpr double kFs = 100000.0;
 constexpr double kRpm = 15000.0;
@@ -32,7 +30,7 @@ Eigen::VectorXd constant_speed_tach(Eigen::Index n, double offset_rad, Eigen::Ve
   theta->resize(n);
   for (Eigen::Index i = 0; i < n; ++i) {
     (*theta)[i] = 2 * kPi * static_cast<double>(i) / kP;
-    v[i] = tach_volts((*theta)[i], offset_rad, 2 * kPi / kP, 20.0);
+    v[i] = tach_volts((*theta)[i], offset_rad, kP / (2 * kPi), 20.0);
   }
   return v;
 }
@@ -100,7 +98,7 @@ TEST(TachAngle, FollowsThreePercentSpeedDrift) {
   for (Eigen::Index i = 0; i < n; ++i) {
     const double x = static_cast<double>(i);
     theta[i] = omega0 * (x + 0.5 * a * x * x);
-    v[i] = tach_volts(theta[i], offset, omega0 * (1 + a * x), 20.0);
+    v[i] = tach_volts(theta[i], offset, 1.0 / (omega0 * (1 + a * x)), 20.0);
   }
   const TachAngle t = tach_angle(v, kFs, kRpm);
   ASSERT_TRUE(t.summary.ok) << t.summary.message;
@@ -136,7 +134,7 @@ TEST(TachAngle, NoisyPulseWithOddLevelsGivesOneEdgePerRevolution) {
   Eigen::VectorXd v(n);
   for (Eigen::Index i = 0; i < n; ++i) {
     const double theta = 2 * kPi * static_cast<double>(i) / kP;
-    v[i] = 0.4 + 4.2 / 5.0 * tach_volts(theta, 1.0, 2 * kPi / kP, 20.0) + noise(rng);
+    v[i] = 0.4 + 4.2 / 5.0 * tach_volts(theta, 1.0, kP / (2 * kPi), 20.0) + noise(rng);
   }
   const TachAngle t = tach_angle(v, kFs, kRpm);
   ASSERT_TRUE(t.summary.ok) << t.summary.message;

@@ -4,16 +4,14 @@
 #include <cmath>
 #include <cstdio>
 
+#include "analysis/common/constants.h"
+#include "analysis/sync/cut_synth.h"
 #include "analysis/sync/tip_deflection.h"
-#include "tests/analysis/sync/synthetic_cut.h"
+#include "tests/support/synthetic_cuts.h"
 
 namespace chatterlab {
 namespace sync {
 namespace {
-
-using testing::CutRecord;
-using testing::CutSpec;
-using testing::kPi;
 
 constexpr double kFs = 100000.0;
 constexpr double kRpm = 15000.0;
@@ -25,17 +23,17 @@ double rms(const Eigen::VectorXd& v) { return std::sqrt(v.squaredNorm() / v.size
 class TipDeflectionOnSyntheticCut : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    spec_ = new CutSpec();
+    spec_ = new CutRecordSpec(testing::sync_test_cut());
     cut_ = new CutRecord(testing::make_cut(*spec_));
   }
   static void TearDownTestSuite() {
     delete cut_;
     delete spec_;
   }
-  static CutSpec* spec_;
+  static CutRecordSpec* spec_;
   static CutRecord* cut_;
 };
-CutSpec* TipDeflectionOnSyntheticCut::spec_ = nullptr;
+CutRecordSpec* TipDeflectionOnSyntheticCut::spec_ = nullptr;
 CutRecord* TipDeflectionOnSyntheticCut::cut_ = nullptr;
 
 TEST_F(TipDeflectionOnSyntheticCut, ContourRemovedToWithinNoiseOverSqrtNAir) {
@@ -60,7 +58,7 @@ TEST_F(TipDeflectionOnSyntheticCut, ContourRemovedToWithinNoiseOverSqrtNAir) {
   const double f = tach.edges[0] - std::floor(tach.edges[0]);
   const double weights = std::sqrt((1 - f) * (1 - f) + f * f);
   const double sigma_mean = spec_->noise_tip_m * weights / std::sqrt(n_air);
-  const double offset = spec_->offset_deg * kPi / 180.0;
+  const double offset = spec_->offset_angle_deg * kPi / 180.0;
   double worst = 0.0;
   double ss = 0.0;
   for (Eigen::Index j = 0; j < d.contour.phase_rad.size(); ++j) {
@@ -168,7 +166,7 @@ TEST(TipDeflection, ContourFollowsADriftingSpeed) {
   //    max|c'| <= 2.78 sum a h = 2.78 * 6.6 um: 1.45e-8 m.
   // Without the per-revolution stretch the contour would be smeared by 3 % of a revolution
   // over the record (~0.5 um at the tip).
-  const testing::Contour contour;
+  const ToolContour contour = testing::sync_test_cut().contour;
   const double offset = 1.1;
   const int revs = 20;
   const double P = 400.0;
@@ -181,7 +179,7 @@ TEST(TipDeflection, ContourFollowsADriftingSpeed) {
     const double theta = omega0 * (x + 0.5 * a * x * x);
     xs[i] = contour.x_m(theta);
     ys[i] = contour.y_m(theta);
-    tach[i] = testing::tach_volts(theta, offset, omega0 * (1 + a * x), 20.0);
+    tach[i] = tach_volts(theta, offset, 1.0 / (omega0 * (1 + a * x)), 20.0);
   }
   const TachAngle t = tach_angle(tach, kFs, kRpm);
   ASSERT_TRUE(t.summary.ok) << t.summary.message;

@@ -188,7 +188,7 @@ void write_raw_dyno(const TempDir& d, const std::string& id, double feed_mm, std
   s.spindle_rpm = 500;
   s.feed_per_tooth_m = feed_mm * 1e-3;
   s.depth_m = 2e-3;
-  s.coefficients = {6.61e8, 9740, 3.17e8, 7620};  // appendix, "30-deg Uncoated Short"
+  s.coefficients = {6.61e8, 3.17e8, 9740, 7620};  // appendix, "30-deg Uncoated Short"
   s.theta_dyn_rad = -0.41;
   s.offset_x_N = -4;
   s.noise_std_N = 1.0;
