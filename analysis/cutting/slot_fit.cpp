@@ -107,15 +107,11 @@ SlotCoefficients fit_slot_coefficients(const Eigen::Ref<const Eigen::VectorXd>& 
 
   // mean|F| = c b Kc h + b Ke (000 eqs 3.5-3.6 as corrected, or as printed) -> eqs 3.9-3.12.
   const double c = mean_force_slope_factor(options.mean_force_model);
-  SlotFitCoefficients& k = out.coefficients;
+  CuttingCoefficients& k = out.coefficients;
   k.Kt_N_m2 = out.tangential.slope_N_per_m2 / c;
   k.Kte_N_m = out.tangential.intercept_N_per_m;
   k.Kr_N_m2 = out.radial.slope_N_per_m2 / c;
   k.Kre_N_m = out.radial.intercept_N_per_m;
-  k.Ktc_N_per_m2 = k.Kt_N_m2;
-  k.Kte_N_per_m = k.Kte_N_m;
-  k.Krc_N_per_m2 = k.Kr_N_m2;
-  k.Kre_N_per_m = k.Kre_N_m;
 
   const auto warn_line = [&](const FittedLine& line, const char* name) {
     if (line.r_squared < options.fit_r_squared_warning) {

@@ -34,22 +34,13 @@ struct FittedLine {
   }
 };
 
-// The fitted Kt (Ktc), Kte, Kr (Krc), Kre (000 eqs 3.9-3.12). Transitional: the same values
-// also under the former milling::CuttingCoefficients names, until app/report.cpp,
-// app/results_json.cpp and app/truth.cpp read the common ones; then
-// SlotCoefficients::coefficients becomes a CuttingCoefficients and this type goes.
-struct SlotFitCoefficients : CuttingCoefficients {
-  double Ktc_N_per_m2 = std::numeric_limits<double>::quiet_NaN();  // = Kt_N_m2
-  double Kte_N_per_m = std::numeric_limits<double>::quiet_NaN();   // = Kte_N_m
-  double Krc_N_per_m2 = std::numeric_limits<double>::quiet_NaN();  // = Kr_N_m2
-  double Kre_N_per_m = std::numeric_limits<double>::quiet_NaN();   // = Kre_N_m
-};
-
 struct SlotCoefficients {
   StepSummary summary;
-  SlotFitCoefficients coefficients;  // NaN (edge terms too) unless summary.ok
-  FittedLine tangential;             // mean|F_t| / b against h
-  FittedLine radial;                 // mean|F_r| / b against h
+  // Ktc, Kte, Krc, Kre of 000 eqs 3.9-3.12 as Kt_N_m2, Kte_N_m, Kr_N_m2, Kre_N_m; NaN (edge
+  // terms too) unless summary.ok.
+  CuttingCoefficients coefficients;
+  FittedLine tangential;  // mean|F_t| / b against h
+  FittedLine radial;      // mean|F_r| / b against h
   SlotMeanForceModel mean_force_model = SlotMeanForceModel::kSingleToothChip;  // as used
   int records = 0;                                                             // records in the fit
   int distinct_feeds = 0;  // distinct feed values among them

@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "analysis/common/check.h"
+
 namespace chatterlab::app {
 
 class CampaignValues {
@@ -44,7 +46,7 @@ class CampaignValues {
     for (const auto& e : it->second) {
       if (!e.has_value) continue;
       if (provider) *provider = e.provider;
-      return std::any_cast<T>(&e.value);
+      return checked_cast<T>(name, e);
     }
     return nullptr;
   }
@@ -55,7 +57,7 @@ class CampaignValues {
     const auto it = entries_.find(name);
     if (it == entries_.end()) return out;
     for (const auto& e : it->second) {
-      if (e.has_value) out.emplace_back(e.provider, std::any_cast<T>(&e.value));
+      if (e.has_value) out.emplace_back(e.provider, checked_cast<T>(name, e));
     }
     return out;
   }
@@ -68,6 +70,15 @@ class CampaignValues {
   std::string why_missing(const std::string& name, const std::string& description = "") const;
 
  private:
+  // A reader asking for another type than the provider put is a broken invariant (the value
+  // would silently look missing).
+  template <class T>
+  static const T* checked_cast(const std::string& name, const Entry& e) {
+    const T* v = std::any_cast<T>(&e.value);
+    CHATTERLAB_CHECK(v != nullptr, "value '" + name + "' from " + e.provider +
+                                       " read as another type than it was provided");
+    return v;
+  }
   void insert(const std::string& name, Entry e);
   std::map<std::string, std::vector<Entry>> entries_;
   std::unique_ptr<std::mutex> mutex_ = std::make_unique<std::mutex>();  // movable values

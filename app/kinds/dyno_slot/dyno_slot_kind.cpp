@@ -87,10 +87,10 @@ json dyno_context(const CampaignResults& r, const GroupOutcome& out, const std::
   d["figure"] = figure;
   d["toc"] = json::array({{{"anchor", "dyno"}, {"title", "Dynamometer slot cuts"}}});
   const auto& k = g.fit.coefficients;
-  d["Ktc_e8"] = fmt_fixed(k.Ktc_N_per_m2 / 1e8, 2);
-  d["Kte_e3"] = fmt_sig(k.Kte_N_per_m / 1e3, 3);
-  d["Krc_e8"] = fmt_fixed(k.Krc_N_per_m2 / 1e8, 2);
-  d["Kre_e3"] = fmt_sig(k.Kre_N_per_m / 1e3, 3);
+  d["Ktc_e8"] = fmt_fixed(k.Kt_N_m2 / 1e8, 2);
+  d["Kte_e3"] = fmt_sig(k.Kte_N_m / 1e3, 3);
+  d["Krc_e8"] = fmt_fixed(k.Kr_N_m2 / 1e8, 2);
+  d["Kre_e3"] = fmt_sig(k.Kre_N_m / 1e3, 3);
   d["rms_t_N"] = fmt_sig(g.fit.tangential.rms_residual_N, 3);
   d["rms_r_N"] = fmt_sig(g.fit.radial.rms_residual_N, 3);
   d["r2_t"] = fmt_fixed(g.fit.tangential.r_squared, 4);
@@ -244,10 +244,10 @@ json DynoSlotGroup::results(const GroupOutcome& out) const {
   const DynoGroupResult* g = out.result_as<DynoGroupResult>();
   if (out.status.ok && g) {
     const auto& k = g->fit.coefficients;
-    d["Ktc_N_m2"] = k.Ktc_N_per_m2;
-    d["Kte_N_m"] = k.Kte_N_per_m;
-    d["Krc_N_m2"] = k.Krc_N_per_m2;
-    d["Kre_N_m"] = k.Kre_N_per_m;
+    d["Ktc_N_m2"] = k.Kt_N_m2;
+    d["Kte_N_m"] = k.Kte_N_m;
+    d["Krc_N_m2"] = k.Kr_N_m2;
+    d["Kre_N_m"] = k.Kre_N_m;
     d["mean_force_model"] = mean_force_model_name(g->fit.mean_force_model);
     d["tangential_fit"] = line_json(g->fit.tangential);
     d["radial_fit"] = line_json(g->fit.radial);
@@ -284,10 +284,10 @@ void DynoSlotGroup::compare_truth(const TruthInput& in, const std::string& key,
   }
   const YAML::Node& v = *in.entry;
   const auto& k = g->fit.coefficients;
-  add_truth_row(c, "Ktc_N_m2", key, truth_number(v, "Ktc_N_m2"), k.Ktc_N_per_m2);
-  add_truth_row(c, "Kte_N_m", key, truth_number(v, "Kte_N_m"), k.Kte_N_per_m);
-  add_truth_row(c, "Krc_N_m2", key, truth_number(v, "Krc_N_m2"), k.Krc_N_per_m2);
-  add_truth_row(c, "Kre_N_m", key, truth_number(v, "Kre_N_m"), k.Kre_N_per_m);
+  add_truth_row(c, "Ktc_N_m2", key, truth_number(v, "Ktc_N_m2"), k.Kt_N_m2);
+  add_truth_row(c, "Kte_N_m", key, truth_number(v, "Kte_N_m"), k.Kte_N_m);
+  add_truth_row(c, "Krc_N_m2", key, truth_number(v, "Krc_N_m2"), k.Kr_N_m2);
+  add_truth_row(c, "Kre_N_m", key, truth_number(v, "Kre_N_m"), k.Kre_N_m);
   const double th = truth_number(v, "theta_dyn_deg");
   if (!std::isfinite(th)) return;
   for (const auto& rec : g->records) {

@@ -261,6 +261,14 @@ TEST(Pipeline, UnknownKindNamesTheRegisteredOnes) {
       << c.tests[0].errors[0];
 }
 
+TEST(CampaignValues, ReadingAnotherTypeIsABrokenInvariant) {
+  CampaignValues v;
+  v.put("v", "a", 1.0);
+  EXPECT_EQ(*v.first<double>("v"), 1.0);
+  EXPECT_THROW(v.first<int>("v"), InvariantError);
+  EXPECT_THROW(v.all<float>("v"), InvariantError);
+}
+
 TEST(ParallelFor, CarriesTheFirstExceptionBack) {
   std::atomic<int> ran{0};
   EXPECT_THROW(parallel_for(100, 2,
