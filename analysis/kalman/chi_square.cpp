@@ -60,18 +60,19 @@ double gamma_q_fraction(double a, double y) {
 }  // namespace
 
 double log_gamma(double x) {
-  // Gamma(x) = Gamma(x + n) / (x (x + 1) ... (x + n - 1)); then Stirling's series (A&S 6.1.41)
-  // to the x^-7 term, whose truncation error at x >= 15 is below 1 / (1188 15^9) ~ 2e-14.
-  double shift = 0.0;
+  // Gamma(x) = Gamma(x + n) / (x (x + 1) ... (x + n - 1)) (one logarithm of the product, which
+  // stays below 15! ~ 1.3e12 for x > 0); then Stirling's series (A&S 6.1.41) to the x^-7 term,
+  // whose truncation error at x >= 15 is below 1 / (1188 15^9) ~ 2e-14.
+  double product = 1.0;
   while (x < 15.0) {
-    shift -= std::log(x);
+    product *= x;
     x += 1.0;
   }
   const double inv = 1.0 / x;
   const double inv2 = inv * inv;
   const double series =
       inv * (1.0 / 12.0 - inv2 * (1.0 / 360.0 - inv2 * (1.0 / 1260.0 - inv2 / 1680.0)));
-  return shift + (x - 0.5) * std::log(x) - x + 0.91893853320467274178 + series;
+  return (x - 0.5) * std::log(x) - x + 0.91893853320467274178 + series - std::log(product);
 }
 
 double regularized_gamma_p(double a, double y) {
@@ -80,24 +81,39 @@ double regularized_gamma_p(double a, double y) {
   return 1.0 - gamma_q_fraction(a, y);
 }
 
+double regularized_gamma_q(double a, double y) {
+  if (y <= 0.0) return 1.0;
+  if (y < a + 1.0) return 1.0 - gamma_p_series(a, y);
+  return gamma_q_fraction(a, y);
+}
+
 double chi_square_cdf(double x, double dof) { return regularized_gamma_p(0.5 * dof, 0.5 * x); }
 
 double chi_square_quantile(double p, double dof) {
   require_rule(p > 0.0 && p < 1.0, "chi-square quantile: p", p, "must be in (0, 1)");
   require_rule(std::isfinite(dof) && dof > 0.0, "chi-square quantile: dof", dof, "must be > 0");
   const double a = 0.5 * dof;
-  // Bracket [lo, hi] with F(lo) < p <= F(hi), then Newton steps x -= (F(x) - p) / f(x), falling
-  // back to bisection when a step leaves the bracket. f(x) = e^((a-1) ln(x/2) - x/2) / (2 G(a)).
+  // Upper half: solve Q(x / 2) = 1 - p (1 - p is exact for p >= 0.5, and Q keeps its relative
+  // accuracy in the tail where 1 - P would not); lower half: P(x / 2) = p. g(x) below is
+  // increasing in x either way, with g' = f, the chi-square density
+  // f(x) = e^((a-1) ln(x/2) - x/2) / (2 Gamma(a)).
+  const bool upper = p > 0.5;
+  const double target = upper ? 1.0 - p : p;
+  const auto g = [&](double x) {
+    return upper ? target - regularized_gamma_q(a, 0.5 * x) : regularized_gamma_p(a, 0.5 * x) - p;
+  };
+  // Bracket [lo, hi] with g(lo) < 0 <= g(hi), then Newton steps, falling back to bisection
+  // when a step leaves the bracket.
   double lo = 0.0;
   double hi = std::max(dof, 1.0);
-  while (chi_square_cdf(hi, dof) < p) {
+  while (g(hi) < 0.0) {
     lo = hi;
     hi *= 2.0;
   }
   double x = dof > lo && dof < hi ? dof : 0.5 * (lo + hi);
   const double lg = log_gamma(a);
   for (int it = 0; it < 300; ++it) {
-    const double f = chi_square_cdf(x, dof) - p;
+    const double f = g(x);
     if (f < 0.0) {
       lo = x;
     } else {

@@ -12,12 +12,16 @@
 namespace chatterlab {
 namespace kalman {
 
-// log Gamma(x), x > 0: Stirling's series after shifting x above 15 (absolute error < 1e-13).
+// log Gamma(x), x > 0: Stirling's series after shifting x above 15 (error < 1e-13 relative to
+// max(1, |log Gamma(x)|); ~1e-14 absolute for small x).
 double log_gamma(double x);
 
-// P(a, y) for a > 0, y >= 0 (relative error ~1e-14 for a < 100; ~1e-16 a for large a, the
-// rounding of a ln y - y - log Gamma(a)).
+// P(a, y) for a > 0, y >= 0 (relative error ~3e-14 for a < 100, from log Gamma; ~1e-16 a for
+// large a, the rounding of a ln y - y - log Gamma(a)).
 double regularized_gamma_p(double a, double y);
+
+// Q(a, y) = 1 - P(a, y), with its relative accuracy kept in the upper tail.
+double regularized_gamma_q(double a, double y);
 
 // F(x; dof), dof > 0, x >= 0.
 double chi_square_cdf(double x, double dof);

@@ -93,8 +93,14 @@ SteadyStateKalman steady_state_gain(const Eigen::Ref<const MatrixXd>& A,
       return out;
     }
     change = (H_next - H).norm();
+    const double size = H_next.norm();
+    if (!std::isfinite(change) || !std::isfinite(size)) {  // entries beyond ~1e154 overflow |.|
+      out.summary.fail("dare: the doubling iteration diverged at iteration " + std::to_string(it) +
+                       " ((A, C) not detectable or (A, Q^1/2) not stabilizable?)");
+      return out;
+    }
     H = std::move(H_next);
-    if (change <= options.relative_tolerance * H.norm()) {
+    if (change <= options.relative_tolerance * size) {
       converged = true;
       break;
     }

@@ -1,7 +1,8 @@
 // Discrete extended Kalman filter (000 eqs 4.5-4.9, after Simon [55] of 000) over a model type:
 //
 //   predict:  x-_k = f(x+_k-1, u_k-1)                       (noise-free, eq. 4.5)
-//             P-_k = F P+_k-1 F^T + Q_d(x+_k-1),  F = J_f_x at (x+_k-1, u_k-1)   (eq. 4.6)
+//             P-_k = F P+_k-1 F^T + Q_d(x+_k-1),  F = J_f_x at (x+_k-1, u_k-1)   (eq. 4.6;
+//             its upper triangle mirrored, so P stays symmetric when no measurement follows)
 //   update:   S = H P-_k H^T + R,  H = J_h_x at x-_k,  K = P-_k H^T S^-1        (eq. 4.7)
 //             x+_k = x-_k + K (z_k - h(x-_k))                                    (eq. 4.8)
 //             P+_k = P-_k - K H P-_k, symmetrised (eq. 4.9), or the Joseph form
@@ -78,6 +79,7 @@ class ExtendedKalmanFilter {
     const StateMatrix FP = F * P_;
     P_.noalias() = FP * F.transpose();
     model_.add_process_noise(x_, &P_);
+    P_.template triangularView<Eigen::StrictlyLower>() = P_.transpose();
     x_ = x_prior;
   }
 
@@ -115,26 +117,38 @@ class ExtendedKalmanFilter {
 
  private:
   Innovation update_rows(const Measurement& z, const StateMask<N>* considered) {
-    MeasurementJacobian H;
-    const Measurement nu = z - model_.measure(x_, &H);
     const Matrix<M, M>& R = model_.measurement_noise();
     if constexpr (SelectsStates<Model>::value) {
+      // P- H^T and S are selections of P-; the constant H (for the Joseph form) is H_.
+      const Measurement nu = z - model_.measure(x_, nullptr);
       Matrix<N, M> PHt;
       Matrix<M, M> S;
       for (int i = 0; i < M; ++i) PHt.col(i) = P_.col(Model::measured_state(i));
       for (int i = 0; i < M; ++i) {
         for (int j = 0; j < M; ++j) S(i, j) = PHt(Model::measured_state(i), j) + R(i, j);
       }
-      return gain_update<N, M, M>(nu, PHt, S, H, R, considered, options_.covariance_update, x_, P_);
+      return gain_update<N, M, M>(nu, PHt, S, H_, R, considered, options_.covariance_update, x_,
+                                  P_);
     } else {
+      MeasurementJacobian H;
+      const Measurement nu = z - model_.measure(x_, &H);
       return measurement_update<N, M, M>(nu, H, R, considered, options_.covariance_update, x_, P_);
     }
+  }
+
+  static MeasurementJacobian selection() {
+    MeasurementJacobian H = MeasurementJacobian::Zero();
+    if constexpr (SelectsStates<Model>::value) {
+      for (int i = 0; i < M; ++i) H(i, Model::measured_state(i)) = 1.0;
+    }
+    return H;
   }
 
   Model model_;
   State x_;
   StateMatrix P_;
   FilterOptions options_;
+  MeasurementJacobian H_ = selection();  // H of a selecting model (zero otherwise, unused)
 };
 
 }  // namespace kalman

@@ -30,6 +30,18 @@ using MeasurementMask = std::bitset<static_cast<std::size_t>(M)>;
 template <int N>
 using StateMask = std::bitset<static_cast<std::size_t>(N)>;
 
+// P := (P + P^T) / 2, over the upper triangle (the diagonal is unchanged).
+template <int N>
+void symmetrize(Matrix<N, N>& P) {
+  for (int j = 1; j < N; ++j) {
+    for (int i = 0; i < j; ++i) {
+      const double v = 0.5 * (P(i, j) + P(j, i));
+      P(i, j) = v;
+      P(j, i) = v;
+    }
+  }
+}
+
 template <int M>
 MeasurementMask<M> all_rows() {
   return MeasurementMask<M>().set();

@@ -3,7 +3,7 @@
 //   x[k+1] = A x[k] + B u[k] + w[k],   w ~ N(0, Q)
 //   z[k]   = C x[k] + v[k],            v ~ N(0, R)
 //
-//   predict:  x- = A x+ + B u,   P- = A P+ A^T + Q
+//   predict:  x- = A x+ + B u,   P- = A P+ A^T + Q (upper triangle mirrored: exactly symmetric)
 //   update:   S = C P- C^T + R,  K = P- C^T S^-1,  x+ = x- + K (z - C x-),
 //             P+ = P- - K C P- (or the Joseph form; measurement_update.h)
 //
@@ -54,6 +54,7 @@ class KalmanFilter {
     const StateMatrix AP = model_.A * P_;
     P_.noalias() = AP * model_.A.transpose();
     P_ += model_.Q;
+    P_.template triangularView<Eigen::StrictlyLower>() = P_.transpose();
   }
 
   // @param z measurement of the current state (M).

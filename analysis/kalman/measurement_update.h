@@ -92,13 +92,7 @@ Innovation gain_update(const Matrix<Rows, 1, MaxRows, 1>& nu,
     P.noalias() = IKH_P * I_KH.transpose();
     const Gain KR = K * R;
     P.noalias() += KR * K.transpose();
-    for (int j = 0; j < N; ++j) {
-      for (int i = 0; i < j; ++i) {
-        const double v = 0.5 * (P(i, j) + P(j, i));
-        P(i, j) = v;
-        P(j, i) = v;
-      }
-    }
+    symmetrize<N>(P);
   }
   return out;
 }

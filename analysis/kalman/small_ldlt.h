@@ -2,10 +2,13 @@
 // measurement update, S = L D L^T with L unit lower triangular and D diagonal (Golub, Van Loan,
 // "Matrix Computations", 4th ed., alg. 4.1.2), and solves with it. No pivoting: S = H P H^T + R
 // is positive definite when R is, and then the unpivoted factorization is as stable as
-// Cholesky. Fixed sizes (or a compile-time maximum) and no square roots: for the 1 to 4 rows of
-// a filter update the loops unroll, several times faster than Eigen::LDLT's pivoted blocked
-// code.
+// Cholesky. Fixed sizes (or a compile-time maximum), no square roots and one division per pivot:
+// for the 1 to 4 rows of a filter update the loops unroll, several times faster than
+// Eigen::LDLT's pivoted blocked code.
 #pragma once
+
+#include <array>
+#include <cstddef>
 
 #include "analysis/kalman/filter_types.h"
 
@@ -27,10 +30,12 @@ class SmallLdlt {
       for (Eigen::Index k = 0; k < j; ++k) d -= LD_(j, k) * LD_(j, k) * LD_(k, k);
       LD_(j, j) = d;
       positive_ = positive_ && d > 0.0;
+      const double inv_d = 1.0 / d;
+      inv_d_[static_cast<std::size_t>(j)] = inv_d;
       for (Eigen::Index i = j + 1; i < m; ++i) {
         double s = LD_(i, j);
         for (Eigen::Index k = 0; k < j; ++k) s -= LD_(i, k) * LD_(j, k) * LD_(k, k);
-        LD_(i, j) = s / d;
+        LD_(i, j) = s * inv_d;
       }
     }
   }
@@ -45,7 +50,7 @@ class SmallLdlt {
     for (Eigen::Index i = 1; i < m; ++i) {
       for (Eigen::Index k = 0; k < i; ++k) B.row(i) -= LD_(i, k) * B.row(k);
     }
-    for (Eigen::Index i = 0; i < m; ++i) B.row(i) /= LD_(i, i);
+    for (Eigen::Index i = 0; i < m; ++i) B.row(i) *= inv_d_[static_cast<std::size_t>(i)];
     for (Eigen::Index i = m - 2; i >= 0; --i) {
       for (Eigen::Index k = i + 1; k < m; ++k) B.row(i) -= LD_(k, i) * B.row(k);
     }
@@ -59,7 +64,7 @@ class SmallLdlt {
     for (Eigen::Index i = 1; i < m; ++i) {
       for (Eigen::Index k = 0; k < i; ++k) B.col(i) -= LD_(i, k) * B.col(k);
     }
-    for (Eigen::Index i = 0; i < m; ++i) B.col(i) /= LD_(i, i);
+    for (Eigen::Index i = 0; i < m; ++i) B.col(i) *= inv_d_[static_cast<std::size_t>(i)];
     for (Eigen::Index i = m - 2; i >= 0; --i) {
       for (Eigen::Index k = i + 1; k < m; ++k) B.col(i) -= LD_(k, i) * B.col(k);
     }
@@ -67,18 +72,21 @@ class SmallLdlt {
 
   // v^T S^-1 v = sum_i y_i^2 / d_i with y = L^-1 v. @param v (Rows).
   double inverse_quadratic_form(const Matrix<Rows, 1, MaxRows, 1>& v) const {
-    Matrix<Rows, 1, MaxRows, 1> y = v;
+    std::array<double, static_cast<std::size_t>(MaxRows)> y{};
     const Eigen::Index m = LD_.rows();
     double q = 0.0;
     for (Eigen::Index i = 0; i < m; ++i) {
-      for (Eigen::Index k = 0; k < i; ++k) y[i] -= LD_(i, k) * y[k];
-      q += y[i] * y[i] / LD_(i, i);
+      const std::size_t a = static_cast<std::size_t>(i);
+      y[a] = v[i];
+      for (Eigen::Index k = 0; k < i; ++k) y[a] -= LD_(i, k) * y[static_cast<std::size_t>(k)];
+      q += y[a] * y[a] * inv_d_[a];
     }
     return q;
   }
 
  private:
   Square LD_;
+  std::array<double, static_cast<std::size_t>(MaxRows)> inv_d_{};  // 1 / d_j: one division each
   bool positive_ = false;
 };
 
