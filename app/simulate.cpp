@@ -151,8 +151,8 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
 
   std::optional<dynamics::BifurcationResult> bif;
   std::vector<dynamics::PoincareMap> maps;
-  results["status"] = sim.summary.ok ? "ok" : "diverged";
-  if (!sim.summary.ok) {
+  results["status"] = sim.summary.ok() ? "ok" : "diverged";
+  if (!sim.summary.ok()) {
     // The revolutions before the failure are valid; what follows them is not analysed.
     results["message"] = sim.summary.message;
     results["completed_revolutions"] = done;
@@ -169,7 +169,7 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
     } else {
       warnings.push_back("too few revolutions for the bifurcation detector");
     }
-    if (bif && !bif->summary.ok) {
+    if (bif && !bif->summary.ok()) {
       warnings.push_back("bifurcation detection failed: " + bif->summary.message);
     } else if (bif) {
       results["bifurcation_depth_mm"] =
@@ -196,7 +196,7 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
           pts.push_back({m.points_m(i, 0), m.points_m(i, 1)});
         }
         const auto cls =
-            dynamics::classify_orbit(m, bif && bif->summary.ok ? bif->noise_floor_m : 1e-9);
+            dynamics::classify_orbit(m, bif && bif->summary.ok() ? bif->noise_floor_m : 1e-9);
         pj.push_back({{"depth_mm", m.requested_depth_m * kMToMm},
                       {"first_depth_mm", m.first_depth_m * kMToMm},
                       {"last_depth_mm", m.last_depth_m * kMToMm},
@@ -225,7 +225,7 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
   };
   std::vector<Job> jobs;
   const std::optional<double> shown_bif =
-      bif && bif->summary.ok ? bif->bifurcation_depth_m : std::nullopt;
+      bif && bif->summary.ok() ? bif->bifurcation_depth_m : std::nullopt;
   if (done > 0)
     jobs.push_back(
         {"figures/bifurcation",
@@ -237,7 +237,7 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
     jobs.push_back(
         {"figures/revolution", revolution_figure(sim.records[0], o.teeth, spec.inertial)});
   }
-  if (sim.summary.ok && !sim.trace.x_m.empty()) {  // the trace of a diverged run holds NaN
+  if (sim.summary.ok() && !sim.trace.x_m.empty()) {  // the trace of a diverged run holds NaN
     jobs.push_back({"figures/overlay", overlay_figure(sim.trace, sim.steps_per_revolution)});
   }
   std::vector<std::string> fig_errors(jobs.size());
@@ -288,12 +288,12 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
                  std::to_string(spec.steps_per_tooth) + " steps per tooth pass" +
                  (spec.inertial ? ", centrifugal and Coriolis forces" : "");
   std::string bif_text = "n/a";
-  if (bif && bif->summary.ok) {
+  if (bif && bif->summary.ok()) {
     bif_text = bif->bifurcation_depth_m
                    ? fmt_fixed(*bif->bifurcation_depth_m * kMToMm, 2) + " mm"
                    : std::string("none (") + dynamics::to_string(bif->verdict) + ")";
   }
-  if (!sim.summary.ok) {
+  if (!sim.summary.ok()) {
     bif_text += "; the run diverged after revolution " + std::to_string(done) + " (depth " +
                 fmt_sig(sim.samples.depth_m[std::max<Eigen::Index>(done - 1, 0)] * kMToMm, 3) +
                 " mm)";
@@ -303,7 +303,7 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
   ctx["bifurcation_axis"] =
       grid.depth_per_step_m == 0.0 ? "revolution number (constant depth)" : "axial depth of cut";
   json islands = json::array();
-  if (bif && bif->summary.ok) {
+  if (bif && bif->summary.ok()) {
     for (const auto& is : bif->islands) {
       islands.push_back({{"start_mm", fmt_fixed(is.onset_depth_m * kMToMm, 2)},
                          {"end_mm", fmt_fixed(is.end_depth_m * kMToMm, 2)}});

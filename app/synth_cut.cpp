@@ -179,7 +179,7 @@ int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint
     r.contour.harmonic_m = s.out_of_round_m;  // phases drawn from the test's seed
     r.seed = test_seed;
     const sync::CutRecord rec = sync::synthesize_cut_record(r);
-    if (!rec.summary.ok) {
+    if (!rec.summary.ok()) {
       throw InputError("synth: cut test '" + c.name + "': " + rec.summary.message);
     }
     // Volts: the test's channel calibration (scale, gap offset) gives the sensor metres back.

@@ -48,7 +48,7 @@ void BM_CutTestPipeline(benchmark::State& state) {
   for (auto _ : state) {
     const app::CampaignResults r = app::run_campaign(spec, o);
     for (const auto& t : r.tests) {
-      if (const auto* c = t.status.ok ? t.result_as<app::CutOutcome>() : nullptr) {
+      if (const auto* c = t.status.ok() ? t.result_as<app::CutOutcome>() : nullptr) {
         identification_s = c->estimation.runtime_s;
       }
     }

@@ -112,7 +112,7 @@ void BM_Estimator(benchmark::State& state) {
     } else {
       r = ekf_coeff(id, cut, CutSetup{}, {kModal, {{1.493e8, 2.315e8}, {4.257e9, 3.106e9}}});
     }
-    if (!r.summary.ok) state.SkipWithError(r.summary.message.c_str());
+    if (!r.summary.ok()) state.SkipWithError(r.summary.message.c_str());
     steps += r.steps;
     benchmark::DoNotOptimize(r.final_state.data());
   }

@@ -23,7 +23,7 @@ void run(benchmark::State& state, const SimulationOptions& o) {
   std::int64_t steps = 0;
   for (auto _ : state) {
     const SimulationResult r = simulate(o);
-    if (!r.summary.ok) state.SkipWithError(r.summary.message.c_str());
+    if (!r.summary.ok()) state.SkipWithError(r.summary.message.c_str());
     steps += r.steps;
     benchmark::DoNotOptimize(r.samples.x_m.data());
   }

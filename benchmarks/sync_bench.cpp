@@ -65,7 +65,7 @@ void BM_FindOffsetAngle(benchmark::State& state) {
   const milling::SimulationOptions o = incline_trial1();
   for (auto _ : state) {
     const sync::OffsetAngleResult r = sync::find_offset_angle(m, o, 1e-3);
-    if (!r.summary.ok) state.SkipWithError(r.summary.message.c_str());
+    if (!r.summary.ok()) state.SkipWithError(r.summary.message.c_str());
     benchmark::DoNotOptimize(r.search.offset_angle_deg);
   }
 }
@@ -92,7 +92,7 @@ void BM_TachAndTipDeflection47s(benchmark::State& state) {
   for (auto _ : state) {
     const sync::TachAngle t = sync::tach_angle(rec.tach_V, 100000.0, 15000.0);
     const sync::TipDeflection d = sync::tip_deflection(x, y, t, 2.78, 0.0, 0.9);
-    if (!d.summary.ok) state.SkipWithError(d.summary.message.c_str());
+    if (!d.summary.ok()) state.SkipWithError(d.summary.message.c_str());
     benchmark::DoNotOptimize(d.x_m.data());
   }
   state.SetItemsProcessed(state.iterations() * n);

@@ -1,5 +1,5 @@
 // Step summaries and errors shared by every analysis step (CONVENTIONS.md: a summary's
-// default state is failure, so a step that did not run can never look like a success).
+// default state is "not run", so a step that did not run can never look like a success).
 #pragma once
 
 #include <stdexcept>
@@ -14,20 +14,38 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Result status of one analysis step. Default-constructed: not run.
+// What became of a step.
+enum class StepStatus { kNotRun, kOk, kFailed };
+
+// "not run", "ok", "failed".
+const char* to_string(StepStatus s);
+
+// Result status of one analysis step (Ceres Solver::Summary style): its status, a brief report
+// (one line: why it failed, or "ok") and a full report (the brief, the details a step adds,
+// and its warnings). Default-constructed: not run.
 struct StepSummary {
-  bool ok = false;
-  std::string message = "not run";    // short report: why it failed, or "ok"
+  StepStatus status = StepStatus::kNotRun;
+  std::string message = "not run";    // brief report
+  std::string details;                // further lines for the full report (may be empty)
   std::vector<std::string> warnings;  // things a reader should know even when ok
 
+  bool ok() const { return status == StepStatus::kOk; }
+  bool ran() const { return status != StepStatus::kNotRun; }
+  bool failed() const { return status == StepStatus::kFailed; }
+
   void succeed() {
-    ok = true;
+    status = StepStatus::kOk;
     message = "ok";
   }
-  void fail(std::string why) {
-    ok = false;
+  void fail(std::string why, std::string more = "") {
+    status = StepStatus::kFailed;
     message = std::move(why);
+    details = std::move(more);
   }
+
+  const std::string& brief_report() const { return message; }
+  // "<status>: <brief>", then the details and one "warning: ..." line per warning.
+  std::string full_report() const;
 };
 
 }  // namespace chatterlab

@@ -37,7 +37,7 @@ struct FittedLine {
 struct SlotCoefficients {
   StepSummary summary;
   // Ktc, Kte, Krc, Kre of 000 eqs 3.9-3.12 as Kt_N_m2, Kte_N_m, Kr_N_m2, Kre_N_m; NaN (edge
-  // terms too) unless summary.ok.
+  // terms too) unless summary.ok().
   CuttingCoefficients coefficients;
   FittedLine tangential;  // mean|F_t| / b against h
   FittedLine radial;      // mean|F_r| / b against h

@@ -321,7 +321,7 @@ BifurcationResult detect_bifurcation(const Eigen::Ref<const Eigen::VectorXd>& de
 std::string full_report(const BifurcationResult& r) {
   std::ostringstream o;
   o << "bifurcation: " << r.summary.message << "\n";
-  if (!r.summary.ok) return o.str();
+  if (!r.summary.ok()) return o.str();
   o << "  run: " << to_string(r.profile) << ", " << r.state.size() << " revolutions, "
     << to_string(r.verdict);
   char buf[64];

@@ -81,7 +81,7 @@ struct BifurcationResult {
 
 // @param depth_m  axial depth at each once-per-revolution sample (m), finite
 // @param x_m      the once-per-revolution samples x_n (m), finite, same size as depth_m
-// @return summary.ok unless the run is shorter than options.window_revolutions revolutions
+// @return summary.ok() unless the run is shorter than options.window_revolutions revolutions
 // @throws InputError on invalid options, different sizes or non-finite values
 BifurcationResult detect_bifurcation(const Eigen::Ref<const Eigen::VectorXd>& depth_m,
                                      const Eigen::Ref<const Eigen::VectorXd>& x_m,

@@ -18,7 +18,7 @@ SimulatedRunBifurcation simulated_run_bifurcation(const milling::SimulationResul
                                                   BifurcationOptions options) {
   SimulatedRunBifurcation out;
   out.completed_revolutions = completed_revolutions(sim.samples);
-  out.diverged = !sim.summary.ok;
+  out.diverged = !sim.summary.ok();
   options.ends_unbounded = out.diverged;
   const Eigen::Index done = out.completed_revolutions;
   if (done > options.window_revolutions) {

@@ -21,14 +21,14 @@ Eigen::Index completed_revolutions(const milling::OncePerRevolution& samples);
 
 struct SimulatedRunBifurcation {
   Eigen::Index completed_revolutions = 0;  // completed_revolutions(sim.samples)
-  bool diverged = false;                   // !sim.summary.ok
+  bool diverged = false;                   // !sim.summary.ok()
   // Unset when completed_revolutions <= options.window_revolutions: too few revolutions for
   // the detector's window. Otherwise the detector's result (its summary may still fail).
   std::optional<BifurcationResult> result;
 };
 
 // @param options  the detector's options (measurement_noise_m as the caller knows it);
-//                 ends_unbounded is replaced by !sim.summary.ok
+//                 ends_unbounded is replaced by !sim.summary.ok()
 // @throws InputError as detect_bifurcation for invalid options
 SimulatedRunBifurcation simulated_run_bifurcation(const milling::SimulationResult& sim,
                                                   BifurcationOptions options = {});

@@ -40,10 +40,10 @@ EstimationWindow choose_estimation_window(const sync::CutSchedule& s, double spi
       const double lo = std::min(s.depth_start_m, s.depth_end_m);
       const double hi = std::max(s.depth_start_m, s.depth_end_m);
       double target = 0.75 * hi;
-      if (bif && bif->summary.ok && bif->bifurcation_depth_m) {
+      if (bif && bif->summary.ok() && bif->bifurcation_depth_m) {
         target = 0.75 * *bif->bifurcation_depth_m;
         w.rule = "centred at 3/4 of the measured bifurcation depth";
-      } else if (bif && bif->summary.ok && bif->verdict == dynamics::RunVerdict::kAllChatter) {
+      } else if (bif && bif->summary.ok() && bif->verdict == dynamics::RunVerdict::kAllChatter) {
         target = lo + 0.25 * (hi - lo);
         w.rule = "centred near the shallow end (the run chatters throughout)";
         w.warnings.push_back(

@@ -63,7 +63,7 @@ IdentificationResult identify_cut(const MeasuredCut& window,
       IdentificationPass p;
       p.offset_deg = offset_deg;
       const EkfResult coeff = ekf_coeff_xy_per_tooth(cut, in.setup, {known, dyno_teeth}, o.coeff);
-      if (!coeff.summary.ok) {
+      if (!coeff.summary.ok()) {
         out.summary.fail(label + "ekf-coeff-xy-per-tooth: " + coeff.summary.message);
         return out;
       }
@@ -75,7 +75,7 @@ IdentificationResult identify_cut(const MeasuredCut& window,
       const ModalSequenceResult seq = modal_mk_then_mc(
           cut, in.setup, {p.coefficients, {in.hammer.m_kg, held_c, in.hammer.k_N_m}}, o.modal,
           one_pass);
-      if (!seq.summary.ok) {
+      if (!seq.summary.ok()) {
         out.summary.fail(label + seq.summary.message);
         return out;
       }
@@ -86,7 +86,7 @@ IdentificationResult identify_cut(const MeasuredCut& window,
       model.coefficients = p.coefficients;
       sync::OffsetAngleResult again =
           sync::find_offset_angle(measured_mean, model, in.offset_depth_m);
-      if (!again.summary.ok) {
+      if (!again.summary.ok()) {
         out.summary.fail(label +
                          "offset angle with the identified values: " + again.summary.message);
         return out;

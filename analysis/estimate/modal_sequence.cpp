@@ -18,7 +18,7 @@ ModalSequenceResult modal_mk_then_mc(const MeasuredCut& cut, const CutSetup& set
     mk.start.c_kg_s = held_c;
     res.runs.push_back(ekf_modal_xy_mk(cut, setup, mk, options));
     const EkfResult& a = res.runs.back();
-    if (!a.summary.ok) {
+    if (!a.summary.ok()) {
       res.summary.fail("pass " + std::to_string(pass + 1) +
                        ", ekf-modal-xy-mk: " + a.summary.message);
       return res;
@@ -30,7 +30,7 @@ ModalSequenceResult modal_mk_then_mc(const MeasuredCut& cut, const CutSetup& set
     mc.start.k_N_m = res.identified.k_N_m;
     res.runs.push_back(ekf_modal_xy_mc(cut, setup, mc, options));
     const EkfResult& b = res.runs.back();
-    if (!b.summary.ok) {
+    if (!b.summary.ok()) {
       res.summary.fail("pass " + std::to_string(pass + 1) +
                        ", ekf-modal-xy-mc: " + b.summary.message);
       return res;

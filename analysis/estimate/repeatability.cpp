@@ -52,11 +52,11 @@ RepeatabilityResult repeat(
     for (std::size_t j = 0; j < drawn.size() && j < res.keys.size(); ++j) {
       res.initial(r, static_cast<Eigen::Index>(j)) = drawn[j];
     }
-    if (e.summary.ok) {
+    if (e.summary.ok()) {
       for (std::size_t j = 0; j < e.estimates.size(); ++j) {
         res.finals(r, static_cast<Eigen::Index>(j)) = e.estimates[j].value;
       }
-    } else if (res.summary.message == "not run") {
+    } else if (!res.summary.ran()) {
       res.summary.fail("run " + std::to_string(r + 1) + " of " + std::to_string(o.runs) + ": " +
                        e.summary.message);
     }
@@ -83,7 +83,7 @@ RepeatabilityResult repeat(
                                               static_cast<double>(v.size() - 1))
                                   : 0.0;
   }
-  if (res.summary.message == "not run") res.summary.succeed();
+  if (!res.summary.ran()) res.summary.succeed();
   return res;
 }
 

@@ -175,7 +175,7 @@ void check_options(const ModalFitOptions& o) {
 ModalFit fit_modes(const Frf& frf, const ModalFitOptions& o) {
   check_options(o);
   ModalFit fit;
-  if (!frf.summary.ok) {
+  if (!frf.summary.ok()) {
     fit.summary.fail("no modal fit: the FRF failed (" + frf.summary.message + ")");
     return fit;
   }

@@ -86,7 +86,7 @@ struct SimulationResult {
 };
 
 // Runs the simulation. Throws InputError for invalid options or recording requests (the
-// message names the field); returns summary.ok = false with the revolution and depth if the
+// message names the field); returns a failed summary with the revolution and depth if the
 // deflection leaves the physical range (|x|, |y| > radius: the model broke down).
 SimulationResult simulate(const SimulationOptions& options, const RecordingRequest& recording = {});
 

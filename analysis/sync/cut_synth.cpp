@@ -81,7 +81,7 @@ CutRecord synthesize_cut_record(const CutRecordSpec& s) {
   rec.trace_revolutions = grid.revolutions;
   const milling::SimulationResult sim = milling::simulate(s.cut, rec);
   CutRecord r;
-  if (!sim.summary.ok) {
+  if (!sim.summary.ok()) {
     r.summary.fail("simulation failed: " + sim.summary.message);
     return r;
   }

@@ -115,7 +115,7 @@ OffsetAngleResult find_offset_angle(const RevolutionMean& measured,
   const milling::SimulationResult sim = milling::simulate(o, rec);
   r.simulation_runtime_s = seconds_since(t_sim);
   r.simulated_revolutions = sim.revolutions;
-  if (!sim.summary.ok) {
+  if (!sim.summary.ok()) {
     r.summary.fail("simulation at " + fmt(depth_m * 1e3) + " mm failed: " + sim.summary.message);
     return r;
   }

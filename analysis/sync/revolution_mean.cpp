@@ -11,7 +11,7 @@ namespace sync {
 namespace {
 
 void require_tach(const TachAngle& tach, const char* who) {
-  if (!tach.summary.ok) {
+  if (!tach.summary.ok()) {
     throw InputError(std::string(who) + ": the tachometer step did not succeed (" +
                      tach.summary.message + ")");
   }

@@ -29,7 +29,7 @@ struct TachAngle {
   StepSummary summary;
   double fs_hz = std::numeric_limits<double>::quiet_NaN();
   std::vector<double> edges;  // rising edges, fractional sample indices, increasing
-  // Unwrapped tach phase phi of every sample, rad (see above). Empty unless summary.ok.
+  // Unwrapped tach phase phi of every sample, rad (see above). Empty unless summary.ok().
   Eigen::VectorXd phase_rad;
   int revolutions = 0;  // whole tachometer revolutions: edges.size() - 1
   // Mean speed over the whole revolutions, 60 fs revolutions / (e_last - e_0); and the

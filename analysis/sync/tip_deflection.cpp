@@ -38,7 +38,7 @@ TipDeflection tip_deflection(const Eigen::Ref<const Eigen::VectorXd>& x_sensor_m
                      "]: must be finite with start < end");
   }
   TipDeflection r;
-  if (!tach.summary.ok) {
+  if (!tach.summary.ok()) {
     r.summary.fail("no tachometer angle: " + tach.summary.message);
     return r;
   }

@@ -48,7 +48,7 @@ struct Outcome {
   template <class R>
   void adopt(std::unique_ptr<R> r) {
     warnings.insert(warnings.end(), r->warnings.begin(), r->warnings.end());
-    if (r->summary.ok) {
+    if (r->summary.ok()) {
       status.succeed();
     } else {
       status.fail(r->summary.message);

@@ -86,7 +86,7 @@ void guarded(Outcome& out, Step&& step) {
     out.status.fail(std::string("internal error: ") + e.what());
     out.failure = Failure::kInternal;
   }
-  if (!out.status.ok && out.failure == Failure::kNone) out.failure = Failure::kInput;
+  if (!out.status.ok() && out.failure == Failure::kNone) out.failure = Failure::kInput;
 }
 
 // The first required value that is missing, as the skip reason; empty when all are there.
@@ -105,7 +105,7 @@ std::string missing_input(const std::vector<Need>& needs, const CampaignValues& 
 void record_unprovided(const Node& n, const StepSummary& status, CampaignValues& values) {
   for (const auto& v : n.provides) {
     if (values.has_entry(v, n.name)) continue;
-    values.fail(v, n.name, status.ok ? "it gave no value" : status.message);
+    values.fail(v, n.name, status.ok() ? "it gave no value" : status.message);
   }
 }
 
@@ -121,7 +121,7 @@ void run_node(const Node& n, Outcome& out, CampaignResults& r, Run&& run, Publis
   } else {
     guarded(out, run);
   }
-  if (out.status.ok) guarded(out, publish);
+  if (out.status.ok()) guarded(out, publish);
   record_unprovided(n, out.status, r.values);
   out.runtime_s = seconds_since(t0);
 }
@@ -200,7 +200,7 @@ CampaignResults run_campaign(CampaignSpec campaign, const PipelineOptions& optio
     nodes = build_graph(r.campaign, kinds);
   } catch (const std::logic_error& e) {
     for (auto& out : r.tests) {
-      if (out.status.ok || out.failure != Failure::kNone) continue;
+      if (out.status.ok() || out.failure != Failure::kNone) continue;
       out.status.fail(std::string("internal error: ") + e.what());
       out.failure = Failure::kInternal;
     }

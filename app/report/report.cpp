@@ -58,7 +58,7 @@ void kind_sections(const CampaignResults& r, const FigureSet& figures, json& ctx
     if (entry.kind) {
       std::vector<const TestOutcome*> ok;
       for (const auto& t : r.tests) {
-        if (t.status.ok && t.spec->kind == entry.kind->name()) ok.push_back(&t);
+        if (t.status.ok() && t.spec->kind == entry.kind->name()) ok.push_back(&t);
       }
       const json section = entry.kind->report_section(r, ok, figures);
       // A kind without a section of its own: its tests' warnings go to the campaign's list.
@@ -84,7 +84,7 @@ void kind_sections(const CampaignResults& r, const FigureSet& figures, json& ctx
 FigureSet draw_figures(const CampaignResults& r, const std::filesystem::path& out, int jobs) {
   FigureJobs work;
   for (const auto& t : r.tests) {
-    if (!t.status.ok) continue;
+    if (!t.status.ok()) continue;
     if (const TestKind* kind = r.kinds->find(t.spec->kind)) kind->figures(r, t, work);
   }
   for (const auto& g : r.groups) {
@@ -141,8 +141,8 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
     tests.push_back({{"id", id},
                      {"kind", t.spec->kind.empty() ? "?" : t.spec->kind},
                      {"status", status_word(t.status, t.failure)},
-                     {"note", t.status.ok && kind ? kind->note(t) : std::string()}});
-    if (t.status.ok) {
+                     {"note", t.status.ok() && kind ? kind->note(t) : std::string()}});
+    if (t.status.ok()) {
       ++ok;
     } else {
       (t.failure == Failure::kInternal ? internal : skipped)

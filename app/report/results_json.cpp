@@ -12,7 +12,7 @@ using nlohmann::json;
 json number_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 const char* status_word(const StepSummary& status, Failure failure) {
-  if (status.ok) return "ok";
+  if (status.ok()) return "ok";
   return failure == Failure::kInternal ? "error" : "skipped";
 }
 
@@ -57,10 +57,10 @@ json results_json(const CampaignResults& r, const TruthComparison& truth) {
     json e;
     e["kind"] = t.spec->kind;
     e["status"] = status_word(t.status, t.failure);
-    if (!t.status.ok) e["skip_reason"] = t.status.message;
+    if (!t.status.ok()) e["skip_reason"] = t.status.message;
     if (!t.warnings.empty()) e["warnings"] = t.warnings;
     e["runtime_s"] = t.runtime_s;
-    if (t.status.ok) {
+    if (t.status.ok()) {
       if (const TestKind* kind = r.kinds->find(t.spec->kind)) e.update(kind->results(t));
     }
     tests[t.spec->id.empty() ? "." : t.spec->id] = e;

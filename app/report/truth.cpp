@@ -46,7 +46,7 @@ TruthComparison compare_with_truth(const CampaignResults& r) {
     const YAML::Node entry = kv.second;
     const TruthInput in{&root, &entry, &r};
     for (const auto& t : r.tests) {
-      if (t.spec->id != key || !t.status.ok) continue;
+      if (t.spec->id != key || !t.status.ok()) continue;
       if (const TestKind* kind = r.kinds->find(t.spec->kind)) kind->compare_truth(in, t, c);
     }
     for (const auto& g : r.groups) {

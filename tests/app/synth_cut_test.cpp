@@ -74,7 +74,7 @@ TEST(SynthCut, TachometerSensorsAndTruth) {
   milling::RecordingRequest rec;
   rec.trace_revolutions = 10;
   const auto sim = milling::simulate(o, rec);
-  ASSERT_TRUE(sim.summary.ok);
+  ASSERT_TRUE(sim.summary.ok());
   double worst = 0, largest = 0;
   for (Eigen::Index k = 0; k < 10 * P; ++k) {
     const Eigen::Index i = 10 * P + k;

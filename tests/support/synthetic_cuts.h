@@ -74,7 +74,7 @@ inline sync::CutRecordSpec sync_test_cut() {
 
 inline sync::CutRecord make_cut(const sync::CutRecordSpec& s) {
   sync::CutRecord r = sync::synthesize_cut_record(s);
-  if (!r.summary.ok) throw std::logic_error(r.summary.message);
+  if (!r.summary.ok()) throw std::logic_error(r.summary.message);
   return r;
 }
 

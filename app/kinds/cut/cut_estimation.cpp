@@ -105,7 +105,7 @@ SimulatedBifurcation simulate_ramp(const TestSpec& t, const milling::SimulationO
                     " revolutions: " + sim.summary.message);
       return s;
     }
-    if (!b.result->summary.ok) {
+    if (!b.result->summary.ok()) {
       s.status.fail(b.result->summary.message);
       return s;
     }
@@ -178,7 +178,7 @@ CutEstimation run_cut_estimation(const TestSpec& t, const CutStepInputs& in,
   const auto t0 = std::chrono::steady_clock::now();
   CutEstimation out;
   try {
-    if (!initial_offset.summary.ok || !in.hammer_x || !in.coefficients || !in.tool) {
+    if (!initial_offset.summary.ok() || !in.hammer_x || !in.coefficients || !in.tool) {
       out.summary.fail(
           "the identification sequence (000 sec. 5.1) starts from the offset angle found with the "
           "hammer-test and dynamometer values, which is not available: " +
@@ -222,7 +222,7 @@ CutEstimation run_cut_estimation(const TestSpec& t, const CutStepInputs& in,
     out.passes = std::move(ir.passes);
     out.converged = ir.converged;
     out.offset = std::move(ir.offset);
-    if (!ir.summary.ok) {
+    if (!ir.summary.ok()) {
       out.summary.fail(ir.summary.message);
       return out;
     }
@@ -250,7 +250,7 @@ CutEstimation run_cut_estimation(const TestSpec& t, const CutStepInputs& in,
           v.known = "coefficients identified (" + coefficients_text(out.coefficients) + ")";
           v.start = "hammer test (" + modal_text(start) + ")";
           v.run = estimate::ekf_modal(id, cut, setup, {out.coefficients, start}, o.modal);
-          if (v.run.summary.ok && o.repeat.runs > 0) {
+          if (v.run.summary.ok() && o.repeat.runs > 0) {
             estimate::ModalParameters ref = out.modal;
             v.repeat =
                 estimate::repeat_modal(id, cut, setup, {out.coefficients, ref}, o.modal, o.repeat);
@@ -263,7 +263,7 @@ CutEstimation run_cut_estimation(const TestSpec& t, const CutStepInputs& in,
           v.start =
               "dynamometer (" + coefficients_text({dyno}) + (shared ? "" : " every tooth") + ")";
           v.run = estimate::ekf_coeff(id, cut, setup, {out.modal, start}, o.coeff);
-          if (v.run.summary.ok && o.repeat.runs > 0) {
+          if (v.run.summary.ok() && o.repeat.runs > 0) {
             // Reference: the identified per-tooth values; the one-pair filter has none, so its
             // own final estimate.
             const std::vector<estimate::ToothCoefficients> ref =
@@ -273,7 +273,7 @@ CutEstimation run_cut_estimation(const TestSpec& t, const CutStepInputs& in,
             v.repeat = estimate::repeat_coeff(id, cut, setup, {out.modal, ref}, o.coeff, o.repeat);
           }
         }
-        if (v.run.summary.ok) {
+        if (v.run.summary.ok()) {
           rank_variant(v, op, out.coefficients, out.modal, cut.time_step_s);
         }
       } catch (const std::exception& e) {

@@ -129,7 +129,7 @@ render::Figure estimator_error_figure(const VariantOutcome& v,
   // "hammer test (m ..., c ...)" -> "hammer test": where the run started.
   const std::string start = v.start.substr(0, v.start.find(" ("));
   int seeded = 0;
-  for (const auto& rr : v.repeat.runs) seeded += rr.summary.ok ? 1 : 0;
+  for (const auto& rr : v.repeat.runs) seeded += rr.summary.ok() ? 1 : 0;
   render::Figure fig;
   fig.share_x = true;
   double t_lo = 0.0, t_hi = 1.0;
@@ -161,7 +161,7 @@ render::Figure estimator_error_figure(const VariantOutcome& v,
     // Repeatability runs first (drawn behind), light; labelled once.
     for (const auto& rr : v.repeat.runs) {
       const Eigen::Index rc = history_column(rr.history, est.key);
-      if (!rr.summary.ok || rc < 0) continue;
+      if (!rr.summary.ok() || rc < 0) continue;
       render::Series s = percent_series(rr.history, rc, r0);
       s.color = "#A9CCE3";
       if (first && a.series.empty()) s.label = std::to_string(seeded) + " seeded starts";
@@ -230,8 +230,8 @@ void CutKind::figures(const CampaignResults& r, const TestOutcome& t, FigureJobs
   const std::string& id = t.spec->id;
   const std::string stem = figure_stem("cut", id);
   jobs.add(id, "processing", stem + "processing", cut_processing_figure(c));
-  if (c.offset_status.ok) jobs.add(id, "offset", stem + "offset", cut_offset_figure(c.offset));
-  if (c.ramped && c.bifurcation_status.ok) {
+  if (c.offset_status.ok()) jobs.add(id, "offset", stem + "offset", cut_offset_figure(c.offset));
+  if (c.ramped && c.bifurcation_status.ok()) {
     jobs.add(id, "bifurcation", stem + "bifurcation",
              bifurcation_figure(c.depth_n_m, {{"x", c.x_n_m}}, c.bifurcation.bifurcation_depth_m,
                                 false));
@@ -239,10 +239,10 @@ void CutKind::figures(const CampaignResults& r, const TestOutcome& t, FigureJobs
       jobs.add(id, "poincare", stem + "poincare", poincare_figure(c.poincare));
   }
   const CutEstimation& e = c.estimation;
-  if (!e.summary.ok) return;
+  if (!e.summary.ok()) return;
   const auto reference = reference_values(r, t);
   for (const auto& v : e.variants) {
-    if (!v.run.summary.ok || v.run.history.time_s.size() < 2) continue;
+    if (!v.run.summary.ok() || v.run.history.time_s.size() < 2) continue;
     jobs.add(id, "estimator:" + v.run.estimator, stem + v.run.estimator,
              estimator_error_figure(v, reference));
   }

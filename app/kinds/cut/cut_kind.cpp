@@ -221,8 +221,8 @@ json CutKind::settings(const CampaignSpec& c) const {
 const TestOutcome* identification_source(const CampaignResults& r) {
   const TestOutcome* ramped = nullptr;
   for (const auto& t : r.tests) {
-    const CutOutcome* c = t.status.ok ? t.result_as<CutOutcome>() : nullptr;
-    if (!c || !c->estimation.summary.ok) continue;
+    const CutOutcome* c = t.status.ok() ? t.result_as<CutOutcome>() : nullptr;
+    if (!c || !c->estimation.summary.ok()) continue;
     if (!c->ramped) return &t;
     if (!ramped) ramped = &t;
   }

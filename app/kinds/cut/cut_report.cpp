@@ -61,28 +61,28 @@ json variant_rows(const CutEstimation& e) {
   json rows = json::array();
   for (const auto& v : e.variants) {
     const estimate::EkfResult& run = v.run;
-    if (!run.summary.ok || run.estimates.empty()) {
+    if (!run.summary.ok() || run.estimates.empty()) {
       rows.push_back(
           {{"variant", run.estimator},
            {"first", true},
            {"span", 1},
            {"failed", true},
-           {"message", run.summary.ok ? std::string("no estimates") : run.summary.message}});
+           {"message", run.summary.ok() ? std::string("no estimates") : run.summary.message}});
       continue;
     }
     const estimate::RepeatabilityResult& rep = v.repeat;
     const std::string rank =
-        v.observability_status.ok
+        v.observability_status.ok()
             ? std::to_string(v.observability.rank) + " of " + std::to_string(v.observability.states)
             : std::string("n/a");
     std::string steps = std::to_string(run.steps);
     if (run.filters > 1) steps += " (" + std::to_string(run.filters) + " filters)";
     for (std::size_t k = 0; k < run.estimates.size(); ++k) {
       const auto& est = run.estimates[k];
-      std::string spread = rep.summary.ok                     ? std::string("n/a")
-                           : rep.summary.message == "not run" ? std::string("not run")
+      std::string spread = rep.summary.ok()                     ? std::string("n/a")
+                           : !rep.summary.ran() ? std::string("not run")
                                                               : std::string("failed");
-      if (rep.summary.ok) {
+      if (rep.summary.ok()) {
         const auto it = std::find(rep.keys.begin(), rep.keys.end(), est.key);
         const auto i = static_cast<Eigen::Index>(it - rep.keys.begin());
         if (it != rep.keys.end() && i < rep.mean.size() && i < rep.std_dev.size()) {
@@ -101,7 +101,7 @@ json variant_rows(const CutEstimation& e) {
                               ", " + fmt_sig(run.nis.mean_band.upper, 3) + "]"},
                   {"steps", steps},
                   {"runtime_s", fmt_sig(run.runtime_s, 3)}};
-      if (k == 0 && !rep.summary.ok && rep.summary.message != "not run") {
+      if (k == 0 && !rep.summary.ok() && rep.summary.ran()) {
         row["spread_message"] = rep.summary.message;
       }
       rows.push_back(row);
@@ -118,16 +118,16 @@ std::string depth_text(const std::optional<double>& depth_m, dynamics::RunVerdic
 // Measured against simulated bifurcation depth of a ramped cut (000 table 5.1), mm.
 json bifurcation_comparison(const CutOutcome& c) {
   json j;
-  j["measured"] = c.bifurcation_status.ok
+  j["measured"] = c.bifurcation_status.ok()
                       ? depth_text(c.bifurcation.bifurcation_depth_m, c.bifurcation.verdict)
                       : "not determined: " + c.bifurcation_status.message;
   j["traditional"] = j["numerical"] =
-      c.estimation.summary.ok ? "not simulated" : "not simulated (identification not available)";
-  if (!c.estimation.summary.ok) return j;
+      c.estimation.summary.ok() ? "not simulated" : "not simulated (identification not available)";
+  if (!c.estimation.summary.ok()) return j;
   for (const auto& s : c.estimation.simulated) {
     if (s.chip_model != "traditional" && s.chip_model != "numerical") continue;
     j[s.chip_model] =
-        s.status.ok ? depth_text(s.depth_m, s.verdict) : "simulation failed: " + s.status.message;
+        s.status.ok() ? depth_text(s.depth_m, s.verdict) : "simulation failed: " + s.status.message;
   }
   return j;
 }
@@ -149,9 +149,9 @@ json cut_context(const CampaignResults& r, const TestOutcome& t, const FigureSet
   j["warnings"] = t.warnings;
   const auto fig = [&](const std::string& key) { return figures.of(t.spec->id, key); };
   j["fig_processing"] = fig("processing");
-  j["offset_ok"] = c.offset_status.ok;
+  j["offset_ok"] = c.offset_status.ok();
   j["offset_message"] = c.offset_status.message;
-  if (c.offset_status.ok) {
+  if (c.offset_status.ok()) {
     const auto& s = c.offset.search;
     j["offset_deg"] = fmt_fixed(s.offset_angle_deg, 2);
     j["offset_error_um"] = fmt_sig(s.rms_error_m * 1e6, 3);
@@ -162,9 +162,9 @@ json cut_context(const CampaignResults& r, const TestOutcome& t, const FigureSet
     j["fig_offset"] = fig("offset");
   }
   j["ramped"] = c.ramped;
-  j["bifurcation_ok"] = c.bifurcation_status.ok;
+  j["bifurcation_ok"] = c.bifurcation_status.ok();
   j["bifurcation_message"] = c.bifurcation_status.message;
-  if (c.ramped && c.bifurcation_status.ok) {
+  if (c.ramped && c.bifurcation_status.ok()) {
     const auto& b = c.bifurcation;
     j["bifurcation"] = b.bifurcation_depth_m
                            ? fmt_fixed(*b.bifurcation_depth_m * 1e3, 2) + " mm"
@@ -177,9 +177,9 @@ json cut_context(const CampaignResults& r, const TestOutcome& t, const FigureSet
   // Identification and estimators (000 sec. 5.1, ch. 4 and 6): only from a sequence that
   // finished; otherwise its message and no number from it.
   const CutEstimation& e = c.estimation;
-  j["est_ok"] = e.summary.ok;
+  j["est_ok"] = e.summary.ok();
   j["est_message"] = e.summary.message;
-  if (e.summary.ok) {
+  if (e.summary.ok()) {
     json est;
     est["window_s"] = fmt_sig(e.window.start_s, 4) + "\u2013" + fmt_sig(e.window.end_s, 4);
     std::string depth_range = fmt_sig(e.window.depth_start_m * 1e3, 3);
@@ -221,13 +221,13 @@ json cut_context(const CampaignResults& r, const TestOutcome& t, const FigureSet
     est["seeded_spread_pct"] = fmt_sig(100 * estimation_options(r.campaign).repeat.spread, 3);
     json variant_figures = json::array();
     for (const auto& v : e.variants) {
-      const std::string f = v.run.summary.ok ? fig("estimator:" + v.run.estimator) : "";
+      const std::string f = v.run.summary.ok() ? fig("estimator:" + v.run.estimator) : "";
       if (f.empty()) continue;
       variant_figures.push_back({{"variant", v.run.estimator},
                                  {"figure", f},
                                  {"known", v.known},
                                  {"start", v.start},
-                                 {"seeded", v.repeat.summary.ok}});
+                                 {"seeded", v.repeat.summary.ok()}});
     }
     est["variant_figures"] = variant_figures;
     if (c.ramped) est["bifurcation"] = bifurcation_comparison(c);
@@ -244,14 +244,14 @@ json estimators_context(const CampaignResults& r) {
   json j;
   json rows = json::array(), bifurcations = json::array();
   for (const auto& t : r.tests) {
-    if (!t.status.ok || t.spec->kind != "cut") continue;
+    if (!t.status.ok() || t.spec->kind != "cut") continue;
     const CutOutcome& c = t.result_of<CutOutcome>();
     if (c.ramped) {
       json b = bifurcation_comparison(c);
       b["id"] = t.spec->id;
       bifurcations.push_back(b);
     }
-    if (!c.estimation.summary.ok) continue;
+    if (!c.estimation.summary.ok()) continue;
     json test_rows = variant_rows(c.estimation);
     for (std::size_t i = 0; i < test_rows.size(); ++i) {
       test_rows[i]["id"] = t.spec->id;
@@ -276,17 +276,17 @@ json estimators_context(const CampaignResults& r) {
 
 std::string CutKind::note(const TestOutcome& t) const {
   const CutOutcome& c = t.result_of<CutOutcome>();
-  std::string s = c.offset_status.ok
+  std::string s = c.offset_status.ok()
                       ? "offset " + fmt_fixed(c.offset.search.offset_angle_deg, 2) + " deg"
                       : std::string("offset not determined");
-  if (c.ramped && c.bifurcation_status.ok && c.bifurcation.bifurcation_depth_m) {
+  if (c.ramped && c.bifurcation_status.ok() && c.bifurcation.bifurcation_depth_m) {
     s += ", bifurcation " + fmt_fixed(*c.bifurcation.bifurcation_depth_m * 1e3, 2) + " mm";
   }
   // The offset found again with the identified values beside the hammer/dyno one.
   const CutEstimation& e = c.estimation;
-  if (e.summary.ok) {
+  if (e.summary.ok()) {
     s += ", identified (offset " + fmt_fixed(e.offset.search.offset_angle_deg, 2) + " deg)";
-  } else if (e.summary.message != "not run") {
+  } else if (e.summary.ran()) {
     s += ", not identified";
   }
   return s;

@@ -41,7 +41,7 @@ json nis_json(const kalman::NisSummary& n) {
 json variant_json(const VariantOutcome& v) {
   const estimate::EkfResult& r = v.run;
   json j;
-  if (!r.summary.ok) {
+  if (!r.summary.ok()) {
     j["status"] = "failed";
     j["message"] = r.summary.message;
     return j;
@@ -67,7 +67,7 @@ json variant_json(const VariantOutcome& v) {
   }
   j["known"] = v.known;
   j["start"] = v.start;
-  if (v.observability_status.ok) {
+  if (v.observability_status.ok()) {
     j["observability_rank"] = v.observability.rank;
     j["observability_states"] = v.observability.states;
   } else {
@@ -77,8 +77,8 @@ json variant_json(const VariantOutcome& v) {
   if (!rep.keys.empty()) {
     json rj;
     rj["runs"] = rep.initial.rows();
-    rj["status"] = rep.summary.ok ? "ok" : "failed";
-    if (!rep.summary.ok) rj["message"] = rep.summary.message;
+    rj["status"] = rep.summary.ok() ? "ok" : "failed";
+    if (!rep.summary.ok()) rj["message"] = rep.summary.message;
     json mean = json::object(), sd = json::object(), lo = json::object(), hi = json::object(),
          rel = json::object();
     for (std::size_t k = 0; k < rep.keys.size(); ++k) {
@@ -129,8 +129,8 @@ json cut_json(const CutOutcome& c) {
   j["measured_rpm"] = number_or_null(c.tach.measured_rpm);
   j["tach_revolutions"] = c.tach.revolutions;
   j["air_revolutions"] = c.air_revolutions;
-  const bool identified = c.estimation.summary.ok;
-  if (c.offset_status.ok) {
+  const bool identified = c.estimation.summary.ok();
+  if (c.offset_status.ok()) {
     const auto& s = c.offset.search;
     // offset_angle_deg: found with the identified values when the identification ran, else
     // with the hammer-test and dynamometer values (docs/identification.md).
@@ -149,7 +149,7 @@ json cut_json(const CutOutcome& c) {
     j["offset_skip_reason"] = c.offset_status.message;
   }
   if (c.ramped) {
-    if (c.bifurcation_status.ok) {
+    if (c.bifurcation_status.ok()) {
       const auto& b = c.bifurcation;
       j["bifurcation_depth_mm"] =
           b.bifurcation_depth_m ? json(*b.bifurcation_depth_m * 1e3) : json(nullptr);
@@ -175,7 +175,7 @@ json cut_json(const CutOutcome& c) {
     if (c.ramped) {
       json sim = json::object();
       for (const auto& s : c.estimation.simulated) {
-        if (s.status.ok) {
+        if (s.status.ok()) {
           sim[s.chip_model] = {
               {"bifurcation_depth_mm", s.depth_m ? json(*s.depth_m * 1e3) : json(nullptr)},
               {"verdict", dynamics::to_string(s.verdict)},
@@ -187,7 +187,7 @@ json cut_json(const CutOutcome& c) {
       }
       j["simulated_identified"] = sim;
     }
-  } else if (c.estimation.summary.message != "not run") {
+  } else if (c.estimation.summary.ran()) {
     j["identification_status"] = "skipped";
     j["identification_skip_reason"] = c.estimation.summary.message;
   }

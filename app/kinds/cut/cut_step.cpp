@@ -48,7 +48,7 @@ void run_offset(const TestSpec& t, const CutStepInputs& in, const sync::TipDefle
                                               sync::contour_phase_points(out.tach, {}));
   out.offset = sync::find_offset_angle(out.offset_measured, o, w.depth_m);
   out.offset_status = out.offset.summary;
-  if (out.offset.summary.ok && out.offset.search.ambiguous) {
+  if (out.offset.summary.ok() && out.offset.search.ambiguous) {
     out.warnings.push_back("offset angle with the hammer/dyno values: the other half turn (" +
                            fmt_fixed(out.offset.search.runner_up_deg, 2) +
                            " deg) fits almost as well (error ratio " +
@@ -57,7 +57,7 @@ void run_offset(const TestSpec& t, const CutStepInputs& in, const sync::TipDefle
 }
 
 void run_measured_bifurcation(const TestSpec& t, const sync::TipDeflection& tip, CutOutcome& out) {
-  const double offset = out.offset_status.ok ? out.offset.search.offset_angle_deg : 0.0;
+  const double offset = out.offset_status.ok() ? out.offset.search.offset_angle_deg : 0.0;
   const Eigen::VectorXd theta = sync::theta1_unwrapped_rad(out.tach, offset);
   const dynamics::RevolutionCrossings c = dynamics::revolution_crossings(theta, 0.0);
   const Eigen::VectorXd x_all = dynamics::sample_at_crossings(c, tip.x_m);
@@ -90,7 +90,7 @@ void run_measured_bifurcation(const TestSpec& t, const sync::TipDeflection& tip,
   }
   out.bifurcation = dynamics::detect_bifurcation(out.depth_n_m, out.x_n_m, bo);
   out.bifurcation_status = out.bifurcation.summary;
-  if (out.bifurcation.summary.ok) {
+  if (out.bifurcation.summary.ok()) {
     const double lo = out.depth_n_m.minCoeff(), hi = out.depth_n_m.maxCoeff();
     std::vector<double> at;
     for (double d : {0.25, 0.75}) at.push_back(lo + d * (hi - lo));
@@ -112,7 +112,7 @@ CutOutcome run_cut_test(const TestSpec& t, const CutStepInputs& in, const CutSte
   sync::TachOptions to;
   to.threshold_V = tach_cal.threshold;
   out.tach = sync::tach_angle(tach_v, t.sample_rate_hz, t.kind_spec<CutSpec>().spindle_rpm, to);
-  if (!out.tach.summary.ok) {
+  if (!out.tach.summary.ok()) {
     out.summary.fail(label + ": tachometer: " + out.tach.summary.message);
     return out;
   }
@@ -127,7 +127,7 @@ CutOutcome run_cut_test(const TestSpec& t, const CutStepInputs& in, const CutSte
   }
   const sync::TipDeflection tip = sync::tip_deflection(
       x, y, out.tach, t.kind_spec<CutSpec>().sensor_to_tip, air.first, air.second);
-  if (!tip.summary.ok) {
+  if (!tip.summary.ok()) {
     out.summary.fail(t.yaml_label + ": air_window_s: " + tip.summary.message);
     return out;
   }
@@ -156,7 +156,7 @@ CutOutcome run_cut_test(const TestSpec& t, const CutStepInputs& in, const CutSte
     std::string why;
     for (const auto& e : options.estimation_errors) why += (why.empty() ? "" : "; ") + e;
     out.estimation.summary.fail(why);
-  } else if (!out.offset_status.ok) {
+  } else if (!out.offset_status.ok()) {
     out.estimation.summary.fail(
         "the identification sequence (000 sec. 5.1) starts from the offset angle found with the "
         "hammer-test and dynamometer values, which is not available: " +
@@ -164,7 +164,7 @@ CutOutcome run_cut_test(const TestSpec& t, const CutStepInputs& in, const CutSte
   } else {
     out.estimation = run_cut_estimation(
         t, in, out.tach, tip, out.offset_measured, out.offset,
-        out.ramped && out.bifurcation_status.ok ? &out.bifurcation : nullptr,
+        out.ramped && out.bifurcation_status.ok() ? &out.bifurcation : nullptr,
         out.ramped ? out.detector_noise_m : 0.0, options.estimation, options.jobs);
     out.warnings.insert(out.warnings.end(), out.estimation.summary.warnings.begin(),
                         out.estimation.summary.warnings.end());

@@ -69,8 +69,8 @@ double truth_offset(const YAML::Node& root, const std::string& id) {
 std::map<std::string, ReferenceValue> reference_values(const CampaignResults& r,
                                                        const TestOutcome& t) {
   std::map<std::string, ReferenceValue> out;
-  const CutOutcome* c = t.status.ok ? t.result_as<CutOutcome>() : nullptr;
-  if (!c || !c->estimation.summary.ok) return out;
+  const CutOutcome* c = t.status.ok() ? t.result_as<CutOutcome>() : nullptr;
+  if (!c || !c->estimation.summary.ok()) return out;
   const CutEstimation& e = c->estimation;
   for (const auto& [k, v] : identified_values(e)) out[k] = {v, "identified"};
   const YAML::Node root = load_truth(r.campaign);
@@ -86,7 +86,7 @@ std::map<std::string, ReferenceValue> reference_values(const CampaignResults& r,
 
 void CutKind::compare_truth(const TruthInput& in, const TestOutcome& t, TruthComparison& c) const {
   const CutOutcome& cut = t.result_of<CutOutcome>();
-  if (!cut.offset_status.ok) return;
+  if (!cut.offset_status.ok()) return;
   const YAML::Node& root = *in.root;
   const YAML::Node& v = *in.entry;
   const std::string& key = t.spec->id;
@@ -104,7 +104,7 @@ void CutKind::compare_truth(const TruthInput& in, const TestOutcome& t, TruthCom
   add_truth_row(c, "offset_hammer_dyno_deg", key, truth_deg,
                 nearest(cut.offset.search.offset_angle_deg));
   const CutEstimation& e = cut.estimation;
-  if (!e.summary.ok) return;
+  if (!e.summary.ok()) return;
   const double est = e.offset.search.offset_angle_deg;
   add_truth_row(c, "offset_angle_deg", key, truth_deg, nearest(est));
   const int shift = tooth_shift(est, truth_deg, teeth);

@@ -66,7 +66,7 @@ json dyno_context(const CampaignResults& r, const GroupOutcome& out, const std::
   json d;
   json records = json::array();
   for (const auto& t : r.tests) {
-    const auto* rec = t.status.ok ? t.result_as<DynoRecordOutcome>() : nullptr;
+    const auto* rec = t.status.ok() ? t.result_as<DynoRecordOutcome>() : nullptr;
     if (!rec) continue;
     const auto& res = rec->result;
     records.push_back({{"id", t.spec->id},
@@ -82,7 +82,7 @@ json dyno_context(const CampaignResults& r, const GroupOutcome& out, const std::
   d["records"] = records;
   static const DynoGroupResult kNone;
   const DynoGroupResult& g = gr ? *gr : kNone;
-  d["fit_ok"] = out.status.ok;
+  d["fit_ok"] = out.status.ok();
   d["fit_message"] = out.status.message;
   d["figure"] = figure;
   d["toc"] = json::array({{{"anchor", "dyno"}, {"title", "Dynamometer slot cuts"}}});
@@ -159,7 +159,7 @@ void DynoSlotKind::run(const TestSpec& t, const CampaignValues&, const RunContex
   d->result = cutting::analyse_slot_record(fx, fy, zero, t.sample_rate_hz, spec.spindle_rpm, opt);
   out.warnings.insert(out.warnings.end(), d->result.summary.warnings.begin(),
                       d->result.summary.warnings.end());
-  if (!d->result.summary.ok) {
+  if (!d->result.summary.ok()) {
     out.status.fail(signal_label(t) + ": " + d->result.summary.message);
     return;
   }
@@ -242,7 +242,7 @@ json DynoSlotGroup::results(const GroupOutcome& out) const {
   json d;
   d["tests"] = out.members;
   const DynoGroupResult* g = out.result_as<DynoGroupResult>();
-  if (out.status.ok && g) {
+  if (out.status.ok() && g) {
     const auto& k = g->fit.coefficients;
     d["Ktc_N_m2"] = k.Kt_N_m2;
     d["Kte_N_m"] = k.Kte_N_m;
@@ -263,7 +263,7 @@ json DynoSlotGroup::settings(const CampaignSpec&) const { return options_json(op
 
 void DynoSlotGroup::figures(const CampaignResults&, const GroupOutcome& out,
                             FigureJobs& jobs) const {
-  if (!out.status.ok) return;
+  if (!out.status.ok()) return;
   jobs.add("group:" + name(), "force", "figures/dyno-force-vs-feed",
            dyno_force_figure(out.result_of<DynoGroupResult>()));
 }
@@ -279,7 +279,7 @@ json DynoSlotGroup::report_section(const CampaignResults& r, const GroupOutcome&
 void DynoSlotGroup::compare_truth(const TruthInput& in, const std::string& key,
                                   const GroupOutcome& out, TruthComparison& c) const {
   const DynoGroupResult* g = out.result_as<DynoGroupResult>();
-  if (!out.status.ok || !g || out.members.empty() || out.members.front().rfind(key, 0) != 0) {
+  if (!out.status.ok() || !g || out.members.empty() || out.members.front().rfind(key, 0) != 0) {
     return;
   }
   const YAML::Node& v = *in.entry;

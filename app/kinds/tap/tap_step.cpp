@@ -34,7 +34,7 @@ TapOutcome run_tap_test(const TestSpec& t, const TapStepOptions& options) {
     out.hits.push_back({h.time_s, h.peak_force_n, h.accepted, h.rejection});
   }
   // hits.summary.warnings only restate the rejections, which out.hits carries.
-  if (!hits.summary.ok) {
+  if (!hits.summary.ok()) {
     out.summary.fail(label + ": " + hits.summary.message);
     return out;
   }
@@ -42,7 +42,7 @@ TapOutcome run_tap_test(const TestSpec& t, const TapStepOptions& options) {
   const frf::Frf f =
       frf::compute_frf(force, response, hits, response_kind_of(tap.response), options.frf);
   out.warnings.insert(out.warnings.end(), f.summary.warnings.begin(), f.summary.warnings.end());
-  if (!f.summary.ok) {
+  if (!f.summary.ok()) {
     out.summary.fail(label + ": " + f.summary.message);
     return out;
   }
@@ -61,7 +61,7 @@ TapOutcome run_tap_test(const TestSpec& t, const TapStepOptions& options) {
   const frf::ModalFit fit = frf::fit_modes(f, fo);
   out.warnings.insert(out.warnings.end(), fit.summary.warnings.begin(), fit.summary.warnings.end());
   out.fit_message = fit.summary.message;
-  if (fit.summary.ok) {
+  if (fit.summary.ok()) {
     out.fit_ok = true;
     out.modes = fit.modes;
     out.quality = fit.quality;

@@ -71,7 +71,7 @@ CampaignResult run_campaign(const milling::CuttingCoefficients& k, const DynoOpt
     const SlotRecord rec = generate_slot_record(s);
     const SlotRecordResult r =
         analyse_slot_record(rec.Fx_N, rec.Fy_N, rec.zero_V, rec.fs_hz, 9000.0, options);
-    EXPECT_TRUE(r.summary.ok) << r.summary.message;
+    EXPECT_TRUE(r.summary.ok()) << r.summary.message;
     out.worst_theta_rad =
         std::max(out.worst_theta_rad, mod_pi_distance(r.theta_dyn_rad, theta_dyn));
     h[i] = s.feed_per_tooth_m;
@@ -87,7 +87,7 @@ TEST(DynoCampaign, RecoversAppendixCoefficients) {
   for (const Row& row : kRows) {
     const CampaignResult c = run_campaign(row.k, DynoOptions{});
     const milling::CuttingCoefficients& got = c.fit.coefficients;
-    ASSERT_TRUE(c.fit.summary.ok) << c.fit.summary.message;
+    ASSERT_TRUE(c.fit.summary.ok()) << c.fit.summary.message;
     EXPECT_TRUE(c.fit.summary.warnings.empty());
     EXPECT_LT(c.worst_theta_rad, kThetaTolRad) << row.name;
     const double e_ktc = got.Kt_N_m2 / row.k.Kt_N_m2 - 1.0;
@@ -112,8 +112,8 @@ TEST(DynoCampaign, DissertationConventionGivesHalfTheCuttingCoefficients) {
   doc.mean_force_model = SlotMeanForceModel::kDissertationEq3_5;
   const CampaignResult a = run_campaign(kRows[0].k, DynoOptions{});
   const CampaignResult d = run_campaign(kRows[0].k, doc);
-  ASSERT_TRUE(a.fit.summary.ok);
-  ASSERT_TRUE(d.fit.summary.ok);
+  ASSERT_TRUE(a.fit.summary.ok());
+  ASSERT_TRUE(d.fit.summary.ok());
   // Same records, same means: the convention only divides the slopes by 2 (a power of two,
   // so the halving is exact in floating point).
   EXPECT_EQ(2.0 * d.fit.coefficients.Kt_N_m2, a.fit.coefficients.Kt_N_m2);

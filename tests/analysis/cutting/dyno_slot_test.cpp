@@ -93,7 +93,7 @@ TEST(AnalyseSlotRecord, CleanRecordsRecoverThetaForcesAndOffsets) {
     s.initial_tool_angle_rad = 0.37 + 0.91 * q++;
     const SlotRecord rec = generate_slot_record(s);
     const SlotRecordResult a = analyse(rec, kNominalRpm);
-    ASSERT_TRUE(a.summary.ok) << a.summary.message;
+    ASSERT_TRUE(a.summary.ok()) << a.summary.message;
     EXPECT_TRUE(a.summary.warnings.empty());
     EXPECT_LT(mod_pi_distance(a.theta_dyn_rad, theta_dyn), kThetaTolEdgeRad) << theta_dyn;
     EXPECT_GT(a.theta_dyn_rad, -0.5 * kPi);
@@ -123,7 +123,7 @@ TEST(AnalyseSlotRecord, NoisyRecordsOverThirtySeeds) {
     s.zero_noise_std_V = 0.05;
     s.seed = static_cast<std::uint64_t>(seed);
     const SlotRecordResult a = analyse(generate_slot_record(s), kNominalRpm);
-    ASSERT_TRUE(a.summary.ok) << a.summary.message;
+    ASSERT_TRUE(a.summary.ok()) << a.summary.message;
     EXPECT_LT(mod_pi_distance(a.theta_dyn_rad, s.theta_dyn_rad), kThetaTolEdgeRad) << seed;
     EXPECT_NEAR(a.mean_Ft_N / mean_ft(s), 1.0, kMeanRelTol) << seed;
     EXPECT_NEAR(a.mean_Fr_N / mean_fr(s), 1.0, kMeanRelTol) << seed;
@@ -143,7 +143,7 @@ TEST(AnalyseSlotRecord, WithoutEdgeForcesTheChangeIsAZeroCrossing) {
     s.zero_noise_std_V = 0.05;
     s.seed = static_cast<std::uint64_t>(seed);
     const SlotRecordResult a = analyse(generate_slot_record(s), kNominalRpm);
-    ASSERT_TRUE(a.summary.ok) << a.summary.message;
+    ASSERT_TRUE(a.summary.ok()) << a.summary.message;
     const double tol = seed == 1 ? kThetaTolEdgeRad : kThetaTolNoEdgeRad;
     EXPECT_LT(mod_pi_distance(a.theta_dyn_rad, s.theta_dyn_rad), tol) << seed;
   }
@@ -155,7 +155,7 @@ TEST(AnalyseSlotRecord, ThetaDynIsReportedModuloPiInHalfOpenRange) {
   SlotRecordSpec s = base_spec();
   s.theta_dyn_rad = 2.0;
   const SlotRecordResult a = analyse(generate_slot_record(s), kNominalRpm);
-  ASSERT_TRUE(a.summary.ok);
+  ASSERT_TRUE(a.summary.ok());
   EXPECT_NEAR(a.theta_dyn_rad, 2.0 - kPi, kThetaTolEdgeRad);
 }
 
@@ -187,7 +187,7 @@ TEST(AnalyseSlotRecord, WeakSwitchingContrastWarns) {
   s.coefficients = milling::CuttingCoefficients{0.0, 0.0, 0.0, 0.0};
   s.noise_std_N = 2.0;
   const SlotRecordResult a = analyse(generate_slot_record(s), kNominalRpm);
-  ASSERT_TRUE(a.summary.ok);
+  ASSERT_TRUE(a.summary.ok());
   EXPECT_LT(a.switching_contrast, 0.1);  // measured 0.02
   ASSERT_EQ(a.summary.warnings.size(), 1u);
   EXPECT_TRUE(starts_with(a.summary.warnings[0], "weak tooth-change signature: "))
@@ -208,7 +208,7 @@ TEST(AnalyseSlotRecord, CommensurateSamplingLimitsThetaResolution) {
     s.theta_dyn_rad = -1.3 + 0.13 * k;
     s.initial_tool_angle_rad = 0.37 + 0.91 * k;
     const SlotRecordResult a = analyse(generate_slot_record(s), 9000.0);
-    ASSERT_TRUE(a.summary.ok);
+    ASSERT_TRUE(a.summary.ok());
     worst = std::max(worst, mod_pi_distance(a.theta_dyn_rad, s.theta_dyn_rad));
   }
   EXPECT_LT(worst, kHalfGapRad);
@@ -225,7 +225,7 @@ TEST(AnalyseSlotRecord, DataErrorsFailTheSummary) {
     r.Fy_N[1234] = std::nan("");
     r.Fy_N[2000] = std::nan("");
     const SlotRecordResult a = analyse(r, 9000.0);
-    EXPECT_FALSE(a.summary.ok);
+    EXPECT_FALSE(a.summary.ok());
     EXPECT_EQ(a.summary.message, "NaN samples in Fy_N: 2 of 25000, first at index 1234");
     EXPECT_TRUE(std::isnan(a.theta_dyn_rad));
     EXPECT_TRUE(std::isnan(a.mean_Ft_N));
@@ -234,7 +234,7 @@ TEST(AnalyseSlotRecord, DataErrorsFailTheSummary) {
     SlotRecord r = good;
     r.zero_V.setZero();
     const SlotRecordResult a = analyse(r, 9000.0);
-    EXPECT_FALSE(a.summary.ok);
+    EXPECT_FALSE(a.summary.ok());
     EXPECT_EQ(a.summary.message,
               "no zero-count edges: zero_V never rises through 2.5 V after being below 2 V "
               "(max 0 V)");
@@ -244,12 +244,12 @@ TEST(AnalyseSlotRecord, DataErrorsFailTheSummary) {
     shorter.duration_s = 0.012;
     shorter.initial_tool_angle_rad = 1.234;
     const SlotRecordResult a = analyse(generate_slot_record(shorter), 9000.0);
-    EXPECT_FALSE(a.summary.ok);
+    EXPECT_FALSE(a.summary.ok());
     EXPECT_EQ(a.summary.message, "fewer than 2 whole revolutions: 1 between 2 zero-count edges");
   }
   {  // Nominal speed 6.7 % off the pulses (333.33 samples measured, 312.5 expected)
     const SlotRecordResult a = analyse(good, 9600.0);
-    EXPECT_FALSE(a.summary.ok);
+    EXPECT_FALSE(a.summary.ok());
     EXPECT_TRUE(starts_with(a.summary.message,
                             "zero-count edge spacing disagrees with spindle_rpm = 9600 by more "
                             "than 5 %: interval 0 (from sample "))
@@ -264,7 +264,7 @@ TEST(AnalyseSlotRecord, DataErrorsFailTheSummary) {
         0.5 * (good.zero_count_times_s[3] + good.zero_count_times_s[4]) * good.fs_hz);
     r.zero_V.segment(mid, 5).setConstant(5.0);
     const SlotRecordResult a = analyse(r, 9000.0);
-    EXPECT_FALSE(a.summary.ok);
+    EXPECT_FALSE(a.summary.ok());
     EXPECT_TRUE(starts_with(a.summary.message,
                             "zero-count edge spacing disagrees with spindle_rpm = 9000 by more "
                             "than 5 %: interval 3 "))
@@ -274,7 +274,7 @@ TEST(AnalyseSlotRecord, DataErrorsFailTheSummary) {
     SlotRecordSpec slow = s;
     slow.fs_hz = 4000.0;
     const SlotRecordResult a = analyse(generate_slot_record(slow), 9000.0);
-    EXPECT_FALSE(a.summary.ok);
+    EXPECT_FALSE(a.summary.ok());
     EXPECT_EQ(a.summary.message,
               "too few samples per revolution: fs_hz * 60 / spindle_rpm = 26.6667 < 36");
   }

@@ -38,7 +38,7 @@ Campaign closed_form(double c) {
 TEST(FitSlotCoefficients, ExactLinesGiveTheCoefficients) {
   const Campaign k = closed_form(2.0 / kPi);
   const SlotCoefficients r = fit_slot_coefficients(k.h, k.ft, k.fr, k.b);
-  ASSERT_TRUE(r.summary.ok) << r.summary.message;
+  ASSERT_TRUE(r.summary.ok()) << r.summary.message;
   EXPECT_TRUE(r.summary.warnings.empty());
   EXPECT_EQ(r.records, 6);
   EXPECT_EQ(r.distinct_feeds, 6);
@@ -62,7 +62,7 @@ TEST(FitSlotCoefficients, DissertationConventionHalvesCuttingTerms) {
   doc.mean_force_model = SlotMeanForceModel::kDissertationEq3_5;
   const SlotCoefficients a = fit_slot_coefficients(k.h, k.ft, k.fr, k.b);
   const SlotCoefficients d = fit_slot_coefficients(k.h, k.ft, k.fr, k.b, doc);
-  ASSERT_TRUE(d.summary.ok);
+  ASSERT_TRUE(d.summary.ok());
   EXPECT_EQ(d.coefficients.Kt_N_m2 * 2.0, a.coefficients.Kt_N_m2);
   EXPECT_EQ(d.coefficients.Kr_N_m2 * 2.0, a.coefficients.Kr_N_m2);
   EXPECT_EQ(d.coefficients.Kte_N_m, a.coefficients.Kte_N_m);
@@ -87,7 +87,7 @@ TEST(FitSlotCoefficients, ResidualAndRSquaredByHand) {
   b << 1e-3, 1e-3, 1e-3;
   f << 10.0, 30.0, 20.0;
   const SlotCoefficients r = fit_slot_coefficients(h, f, f, b);
-  ASSERT_TRUE(r.summary.ok);
+  ASSERT_TRUE(r.summary.ok());
   EXPECT_NEAR(r.tangential.slope_N_per_m2 / 5e7, 1.0, kExactRelTol);
   EXPECT_NEAR(r.tangential.intercept_N_per_m / 1e4, 1.0, kExactRelTol);
   EXPECT_NEAR(r.tangential.rms_residual_N, std::sqrt(50.0), 1e-9);
@@ -105,7 +105,7 @@ TEST(FitSlotCoefficients, NegativeInterceptWarns) {
   ft << 10.0, 30.0;  // line through (0.05 mm, 10 N), (0.1 mm, 30 N): intercept -10 N at b = 1 mm
   fr << 10.0, 15.0;
   const SlotCoefficients r = fit_slot_coefficients(h, ft, fr, b);
-  ASSERT_TRUE(r.summary.ok);
+  ASSERT_TRUE(r.summary.ok());
   ASSERT_EQ(r.summary.warnings.size(), 1u);
   EXPECT_EQ(r.summary.warnings[0],
             "tangential line: negative edge coefficient -10000 N/m (the intercept should be >= 0)");
@@ -117,7 +117,7 @@ TEST(FitSlotCoefficients, FewerThanTwoDistinctFeedsFails) {
   b << 1e-3, 2e-3, 3e-3;
   f << 10.0, 20.0, 30.0;
   const SlotCoefficients r = fit_slot_coefficients(h, f, f, b);
-  EXPECT_FALSE(r.summary.ok);
+  EXPECT_FALSE(r.summary.ok());
   EXPECT_EQ(r.summary.message,
             "fewer than 2 distinct feeds: 1 among 3 records; a line in feed needs at least 2 "
             "(000 eqs 3.7-3.8)");

@@ -59,7 +59,7 @@ TEST(Bifurcation, InclineHopfOnsetIsFoundWithEstimatedOrStatedNoise) {
     spec.chatter.push_back(hopf(3.8, 2e-5, 0.5));
     const SyntheticOrbit o = synthesize_orbit(spec);
     const BifurcationResult r = detect_bifurcation(o.depth_m, o.x_m);
-    ASSERT_TRUE(r.summary.ok) << r.summary.message;
+    ASSERT_TRUE(r.summary.ok()) << r.summary.message;
     EXPECT_EQ(r.profile, DepthProfile::kIncline);
     EXPECT_EQ(r.verdict, RunVerdict::kChanges);
     EXPECT_EQ(r.noise_floor_source, NoiseFloorSource::kQuietestBlocks);
@@ -354,11 +354,11 @@ TEST(Bifurcation, ShortRunFailsTheStepAndBadInputIsNamed) {
   const Eigen::VectorXd depth = Eigen::VectorXd::LinSpaced(40, 0.0, 1e-3);
   const Eigen::VectorXd x = Eigen::VectorXd::Zero(40);
   const BifurcationResult r = detect_bifurcation(depth, x);
-  EXPECT_FALSE(r.summary.ok);
+  EXPECT_FALSE(r.summary.ok());
   EXPECT_EQ(r.summary.message, "run has 40 revolutions: at least window_revolutions = 61 needed");
   EXPECT_EQ(full_report(r),
             "bifurcation: run has 40 revolutions: at least window_revolutions = 61 needed\n");
-  EXPECT_FALSE(BifurcationResult{}.summary.ok);  // default: not run
+  EXPECT_FALSE(BifurcationResult{}.summary.ok());  // default: not run
 
   EXPECT_THROW(
       {

@@ -43,7 +43,7 @@ TEST(SimulatedRunBifurcation, DivergedRunEndsInChatterAtTheDetectorsDepth) {
   o.switching = milling::SwitchingRule::kAngleOnly;
   o.depth = milling::DepthProfile::ramp(0.0, 6e-3, 200.0);
   const milling::SimulationResult sim = milling::simulate(o);
-  ASSERT_FALSE(sim.summary.ok) << "the run was expected to diverge";
+  ASSERT_FALSE(sim.summary.ok()) << "the run was expected to diverge";
   BifurcationOptions bo;
   bo.measurement_noise_m = kNoiseM;
   const SimulatedRunBifurcation b = simulated_run_bifurcation(sim, bo);
@@ -55,7 +55,7 @@ TEST(SimulatedRunBifurcation, DivergedRunEndsInChatterAtTheDetectorsDepth) {
   EXPECT_TRUE(sim.samples.x_m.head(done).allFinite());
   EXPECT_FALSE(std::isfinite(sim.samples.x_m[done]));
   ASSERT_TRUE(b.result.has_value());
-  ASSERT_TRUE(b.result->summary.ok) << b.result->summary.message;
+  ASSERT_TRUE(b.result->summary.ok()) << b.result->summary.message;
   // Second method: the detector on the same samples, told the run ends unbounded.
   BifurcationOptions direct = bo;
   direct.ends_unbounded = true;
@@ -73,7 +73,7 @@ TEST(SimulatedRunBifurcation, CompletedRampIsTheDetectorOnAllItsRevolutions) {
   milling::SimulationOptions o = incline1();
   o.depth = milling::DepthProfile::ramp(0.0, 2e-3, 200.0);
   const milling::SimulationResult sim = milling::simulate(o);
-  ASSERT_TRUE(sim.summary.ok) << sim.summary.message;
+  ASSERT_TRUE(sim.summary.ok()) << sim.summary.message;
   BifurcationOptions bo;
   bo.measurement_noise_m = kNoiseM;
   const SimulatedRunBifurcation b = simulated_run_bifurcation(sim, bo);
@@ -91,7 +91,7 @@ TEST(SimulatedRunBifurcation, TooFewRevolutionsLeaveTheDetectorOut) {
   milling::SimulationOptions o = incline1();
   o.depth = milling::DepthProfile::constant(1e-3, 61);
   const milling::SimulationResult sim = milling::simulate(o);
-  ASSERT_TRUE(sim.summary.ok);
+  ASSERT_TRUE(sim.summary.ok());
   const SimulatedRunBifurcation b = simulated_run_bifurcation(sim);
   EXPECT_EQ(b.completed_revolutions, 61);
   EXPECT_FALSE(b.result.has_value());

@@ -55,7 +55,7 @@ TEST(EkfCoeff, PerToothRecoversBothTeeth) {
   // 000 figs 6.13-6.14.
   const EkfResult r = ekf_coeff_xy_per_tooth(cut(), CutSetup{},
                                              {table52_modal(), dissertation_start_coefficients()});
-  ASSERT_TRUE(r.summary.ok) << r.summary.message;
+  ASSERT_TRUE(r.summary.ok()) << r.summary.message;
   EXPECT_EQ(r.filters, 2);
   EXPECT_EQ(r.steps, 396000);
   record("per_tooth_steps", static_cast<double>(r.steps));
@@ -77,7 +77,7 @@ TEST(EkfCoeff, PerToothOverNoiseSeeds) {
     const MeasuredCut c = testing::synthetic_cut(spec);
     const EkfResult r =
         ekf_coeff_xy_per_tooth(c, CutSetup{}, {table52_modal(), dissertation_start_coefficients()});
-    ASSERT_TRUE(r.summary.ok) << r.summary.message;
+    ASSERT_TRUE(r.summary.ok()) << r.summary.message;
     worst =
         std::max(worst, per_tooth_errors("seed" + std::to_string(seed), r, table52_coefficients()));
   }
@@ -92,7 +92,7 @@ TEST(EkfCoeff, GatingToTheOwnToothsEngagementLosesAccuracy) {
   o.gate = ToothGate::kEngaged;
   const EkfResult gated = ekf_coeff_xy_per_tooth(
       cut(), CutSetup{}, {table52_modal(), dissertation_start_coefficients()}, o);
-  ASSERT_TRUE(gated.summary.ok) << gated.summary.message;
+  ASSERT_TRUE(gated.summary.ok()) << gated.summary.message;
   const double worst_gated = per_tooth_errors("gated", gated, table52_coefficients());
   const EkfResult plain = ekf_coeff_xy_per_tooth(
       cut(), CutSetup{}, {table52_modal(), dissertation_start_coefficients()});
@@ -111,7 +111,7 @@ TEST(EkfCoeff, SharedCoefficientsOnSymmetricTeeth) {
   const MeasuredCut c = testing::synthetic_cut(spec);
   const EkfResult r =
       ekf_coeff_xy(c, CutSetup{}, {table52_modal(), {{0.6 * 5.89e8, 1.4 * 3.19e8}}});
-  ASSERT_TRUE(r.summary.ok) << r.summary.message;
+  ASSERT_TRUE(r.summary.ok()) << r.summary.message;
   const double et = r.value("Kt_N_m2") / 5.89e8 - 1.0;
   const double er = r.value("Kr_N_m2") / 3.19e8 - 1.0;
   record("shared_Kt_error_pct", 100.0 * et);
@@ -131,7 +131,7 @@ TEST(EkfCoeff, SharedCoefficientsOnAsymmetricTeeth) {
   // 4.84e8 and 3.65e8 N/m^2 (near the weaker tooth); the estimates must lie between the teeth.
   const ToothCoefficients s0{0.5 * (1.493e8 + 4.257e9), 0.5 * (2.315e8 + 3.106e9)};  // 000
   const EkfResult r = ekf_coeff_xy(cut(), CutSetup{}, {table52_modal(), {s0}});
-  ASSERT_TRUE(r.summary.ok) << r.summary.message;
+  ASSERT_TRUE(r.summary.ok()) << r.summary.message;
   record("shared_asymmetric_Kt_N_m2", r.value("Kt_N_m2"));
   record("shared_asymmetric_Kr_N_m2", r.value("Kr_N_m2"));
   EXPECT_GT(r.value("Kt_N_m2"), 2.483e8);
@@ -142,7 +142,7 @@ TEST(EkfCoeff, TuningAndModelOf000AlsoConverge) {
   // 000 eqs 6.4, 6.5, 6.7 with forward Euler (coeff_options_000).
   const EkfResult r = ekf_coeff_xy_per_tooth(
       cut(), CutSetup{}, {table52_modal(), dissertation_start_coefficients()}, coeff_options_000());
-  ASSERT_TRUE(r.summary.ok) << r.summary.message;
+  ASSERT_TRUE(r.summary.ok()) << r.summary.message;
   const double worst = per_tooth_errors("options_000", r, table52_coefficients());
   record("options_000_worst_pct", 100.0 * worst);
   EXPECT_LT(worst, kTolerance);

@@ -56,7 +56,7 @@ const sync::RevolutionMean& measured_mean() {
     milling::RecordingRequest rq;
     rq.full_revolutions = {59};
     const milling::SimulationResult sim = milling::simulate(o, rq);
-    EXPECT_TRUE(sim.summary.ok);
+    EXPECT_TRUE(sim.summary.ok());
     const milling::RevolutionRecord& r = sim.records.front();
     sync::RevolutionMean mean;
     const int N = 400;
@@ -90,7 +90,7 @@ double error(double value, double truth) { return std::abs(value / truth - 1.0);
 
 TEST(Identification, SettlesOnTheTruthFromTheHammerAndDynamometerValues) {
   const IdentificationResult r = identify_cut(window(), measured_mean(), inputs());
-  ASSERT_TRUE(r.summary.ok) << r.summary.message;
+  ASSERT_TRUE(r.summary.ok()) << r.summary.message;
   EXPECT_TRUE(r.converged);
   EXPECT_TRUE(r.summary.warnings.empty());
   // The hammer damping is 40 % off: the sequence needs more than one pass.
@@ -124,7 +124,7 @@ TEST(Identification, OnePassIsTheSequenceAsWritten) {
   IdentificationOptions o;
   o.max_passes = 1;
   const IdentificationResult r = identify_cut(window(), measured_mean(), inputs(), o);
-  ASSERT_TRUE(r.summary.ok) << r.summary.message;
+  ASSERT_TRUE(r.summary.ok()) << r.summary.message;
   ASSERT_EQ(r.passes.size(), 1u);
   EXPECT_FALSE(r.converged);                // nothing to compare with
   EXPECT_TRUE(r.summary.warnings.empty());  // and nothing to warn about with one pass asked
@@ -138,7 +138,7 @@ TEST(Identification, UnsettledPassesWarn) {
   o.max_passes = 2;
   o.parameter_tolerance = 0.0;
   const IdentificationResult r = identify_cut(window(), measured_mean(), inputs(), o);
-  ASSERT_TRUE(r.summary.ok) << r.summary.message;
+  ASSERT_TRUE(r.summary.ok()) << r.summary.message;
   EXPECT_EQ(r.passes.size(), 2u);
   EXPECT_FALSE(r.converged);
   ASSERT_EQ(r.summary.warnings.size(), 1u);
@@ -151,7 +151,7 @@ TEST(Identification, AFailingStepEndsTheSequenceWithItsMessage) {
   IdentificationInputs in = inputs();
   in.hammer.m_kg = -1.0;
   const IdentificationResult r = identify_cut(window(), measured_mean(), in);
-  EXPECT_FALSE(r.summary.ok);
+  EXPECT_FALSE(r.summary.ok());
   EXPECT_EQ(r.summary.message, "inputs.modal.m_kg = -1: must be > 0");
   EXPECT_TRUE(r.passes.empty());
 }

@@ -148,11 +148,11 @@ TEST(EkfInputs, CoefficientInputsAreChecked) {
 
 TEST(EkfResults, NothingRunIsNotASuccess) {
   const EkfResult r;
-  EXPECT_FALSE(r.summary.ok);
+  EXPECT_FALSE(r.summary.ok());
   EXPECT_EQ(r.summary.message, "not run");
   EXPECT_TRUE(std::isnan(r.value("m_kg")));
   const ModalSequenceResult s;
-  EXPECT_FALSE(s.summary.ok);
+  EXPECT_FALSE(s.summary.ok());
 }
 
 TEST(EkfResults, ADivergingFilterFailsWithTheStep) {
@@ -160,14 +160,14 @@ TEST(EkfResults, ADivergingFilterFailsWithTheStep) {
   ModalEkfInputs in{table52_coefficients(), table52_modal()};
   in.start.m_kg = 1e-300;
   const EkfResult r = ekf_modal_xy(cut(), CutSetup{}, in);
-  EXPECT_FALSE(r.summary.ok);
+  EXPECT_FALSE(r.summary.ok());
   EXPECT_EQ(r.summary.message.rfind("the estimate became non-finite at step ", 0), 0u)
       << r.summary.message;
   EXPECT_LT(r.steps, 10);
   CoeffEkfInputs ci{table52_modal(), {{1e300, 1e300}, {1e300, 1e300}}};
   ci.modal.m_kg = 1e-300;
   const EkfResult c = ekf_coeff_xy_per_tooth(cut(), CutSetup{}, ci);
-  EXPECT_FALSE(c.summary.ok);
+  EXPECT_FALSE(c.summary.ok());
   EXPECT_EQ(c.summary.message.rfind("the estimate became non-finite at step ", 0), 0u)
       << c.summary.message;
 }

@@ -59,7 +59,7 @@ TEST(EkfModal, XOnlyFilterRecoversAllThree) {
   // 000 fig. 6.1 (rank 3 of 5 at any instant, yet the time-varying forcing identifies all three).
   const EkfResult r =
       ekf_modal_x(cut(), CutSetup{}, {table52_coefficients(), dissertation_start_modal()});
-  ASSERT_TRUE(r.summary.ok) << r.summary.message;
+  ASSERT_TRUE(r.summary.ok()) << r.summary.message;
   report("modal_x", r);
   const ModalParameters t = table52_modal();
   EXPECT_NEAR(error(r, "m_kg", t.m_kg), 0.0, kMassStiffnessTolerance);
@@ -73,7 +73,7 @@ TEST(EkfModal, XyFilterRecoversAllThree) {
   // 000 fig. 6.2 (rank 6 of 7).
   const EkfResult r =
       ekf_modal_xy(cut(), CutSetup{}, {table52_coefficients(), dissertation_start_modal()});
-  ASSERT_TRUE(r.summary.ok) << r.summary.message;
+  ASSERT_TRUE(r.summary.ok()) << r.summary.message;
   report("modal_xy", r);
   const ModalParameters t = table52_modal();
   EXPECT_NEAR(error(r, "m_kg", t.m_kg), 0.0, kMassStiffnessTolerance);
@@ -86,7 +86,7 @@ TEST(EkfModal, MkAndMcWithTheTrueHeldValue) {
   ModalEkfInputs mk{table52_coefficients(), dissertation_start_modal()};
   mk.start.c_kg_s = table52_modal().c_kg_s;
   const EkfResult a = ekf_modal_xy_mk(cut(), CutSetup{}, mk);
-  ASSERT_TRUE(a.summary.ok) << a.summary.message;
+  ASSERT_TRUE(a.summary.ok()) << a.summary.message;
   report("modal_xy_mk_true_c", a);
   EXPECT_EQ(a.estimates.size(), 2u);
   EXPECT_NEAR(error(a, "m_kg", table52_modal().m_kg), 0.0, kMassStiffnessTolerance);
@@ -96,7 +96,7 @@ TEST(EkfModal, MkAndMcWithTheTrueHeldValue) {
   ModalEkfInputs mc{table52_coefficients(), dissertation_start_modal()};
   mc.start.k_N_m = table52_modal().k_N_m;
   const EkfResult b = ekf_modal_xy_mc(cut(), CutSetup{}, mc);
-  ASSERT_TRUE(b.summary.ok) << b.summary.message;
+  ASSERT_TRUE(b.summary.ok()) << b.summary.message;
   report("modal_xy_mc_true_k", b);
   EXPECT_NEAR(error(b, "m_kg", table52_modal().m_kg), 0.0, kMassStiffnessTolerance);
   EXPECT_NEAR(error(b, "c_kg_s", table52_modal().c_kg_s), 0.0, kDampingTolerance);
@@ -114,7 +114,7 @@ TEST(EkfModal, MkThenMcFromTheHammerDamping) {
   ModalSequenceOptions one;
   one.passes = 1;
   const ModalSequenceResult s1 = modal_mk_then_mc(cut(), CutSetup{}, in, {}, one);
-  ASSERT_TRUE(s1.summary.ok) << s1.summary.message;
+  ASSERT_TRUE(s1.summary.ok()) << s1.summary.message;
   ASSERT_EQ(s1.runs.size(), 2u);
   record("sequence_1pass_m_error_pct", 100.0 * (s1.identified.m_kg / t.m_kg - 1.0));
   record("sequence_1pass_c_error_pct", 100.0 * (s1.identified.c_kg_s / t.c_kg_s - 1.0));
@@ -124,7 +124,7 @@ TEST(EkfModal, MkThenMcFromTheHammerDamping) {
   EXPECT_NEAR(s1.identified.c_kg_s / t.c_kg_s, 1.0, kDampingTolerance);
 
   const ModalSequenceResult s2 = modal_mk_then_mc(cut(), CutSetup{}, in);
-  ASSERT_TRUE(s2.summary.ok) << s2.summary.message;
+  ASSERT_TRUE(s2.summary.ok()) << s2.summary.message;
   ASSERT_EQ(s2.runs.size(), 4u);
   record("sequence_2pass_m_error_pct", 100.0 * (s2.identified.m_kg / t.m_kg - 1.0));
   record("sequence_2pass_c_error_pct", 100.0 * (s2.identified.c_kg_s / t.c_kg_s - 1.0));
@@ -147,7 +147,7 @@ TEST(EkfModal, OverNoiseSeeds) {
     const MeasuredCut c = testing::synthetic_cut(spec);
     const EkfResult r =
         ekf_modal_xy(c, CutSetup{}, {table52_coefficients(), dissertation_start_modal()});
-    ASSERT_TRUE(r.summary.ok) << r.summary.message;
+    ASSERT_TRUE(r.summary.ok()) << r.summary.message;
     worst_mk = std::max(
         {worst_mk, std::abs(error(r, "m_kg", t.m_kg)), std::abs(error(r, "k_N_m", t.k_N_m))});
     worst_c = std::max(worst_c, std::abs(error(r, "c_kg_s", t.c_kg_s)));
@@ -156,7 +156,7 @@ TEST(EkfModal, OverNoiseSeeds) {
     ModalSequenceOptions one;
     one.passes = 1;
     const ModalSequenceResult s = modal_mk_then_mc(c, CutSetup{}, in, {}, one);
-    ASSERT_TRUE(s.summary.ok) << s.summary.message;
+    ASSERT_TRUE(s.summary.ok()) << s.summary.message;
     worst_seq_mk = std::max({worst_seq_mk, std::abs(s.identified.m_kg / t.m_kg - 1.0),
                              std::abs(s.identified.k_N_m / t.k_N_m - 1.0)});
     worst_seq_c = std::max(worst_seq_c, std::abs(s.identified.c_kg_s / t.c_kg_s - 1.0));
@@ -180,7 +180,7 @@ TEST(EkfModal, ForwardEulerOf000BiasesTheDamping) {
       ekf_modal_xy(cut(), CutSetup{}, {table52_coefficients(), dissertation_start_modal()}, o);
   const EkfResult sym =
       ekf_modal_xy(cut(), CutSetup{}, {table52_coefficients(), dissertation_start_modal()});
-  ASSERT_TRUE(fwd.summary.ok && sym.summary.ok);
+  ASSERT_TRUE(fwd.summary.ok() && sym.summary.ok());
   report("modal_xy_forward_euler", fwd);
   const double shift = (fwd.value("c_kg_s") - sym.value("c_kg_s")) / table52_modal().c_kg_s;
   record("forward_minus_symplectic_c_pct", 100.0 * shift);
@@ -202,7 +202,7 @@ TEST(EkfModal, HistoryIsDecimatedAndEndsAtTheFinalEstimate) {
   o.history_points = 500;
   const EkfResult r =
       ekf_modal_xy(cut(), CutSetup{}, {table52_coefficients(), dissertation_start_modal()}, o);
-  ASSERT_TRUE(r.summary.ok);
+  ASSERT_TRUE(r.summary.ok());
   const EstimateHistory& h = r.history;
   ASSERT_EQ(h.columns, (std::vector<std::string>{"x_m", "vx_m_s", "y_m", "vy_m_s", "m_kg", "c_kg_s",
                                                  "k_N_m"}));

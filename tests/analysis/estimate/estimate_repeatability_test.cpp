@@ -31,7 +31,7 @@ TEST(Repeatability, PerToothCoefficientsFromStartsWithin50Percent) {
   // 2 % of the truth; the spread (range / mean) is reported.
   const RepeatabilityResult r = repeat_coeff(EstimatorId::kCoeffXyPerTooth, cut(), CutSetup{},
                                              {table52_modal(), table52_coefficients()});
-  ASSERT_TRUE(r.summary.ok) << r.summary.message;
+  ASSERT_TRUE(r.summary.ok()) << r.summary.message;
   ASSERT_EQ(r.runs.size(), 10u);
   ASSERT_EQ(r.keys, (std::vector<std::string>{"Kt1_N_m2", "Kr1_N_m2", "Kt2_N_m2", "Kr2_N_m2"}));
   const std::vector<double> truth = {2.483e8, 2.196e8, 6.641e9, 4.154e9};
@@ -61,7 +61,7 @@ TEST(Repeatability, ModalMassAndStiffness) {
   o.runs = 5;
   const RepeatabilityResult r = repeat_modal(EstimatorId::kModalXyMk, cut(), CutSetup{},
                                              {table52_coefficients(), table52_modal()}, {}, o);
-  ASSERT_TRUE(r.summary.ok) << r.summary.message;
+  ASSERT_TRUE(r.summary.ok()) << r.summary.message;
   ASSERT_EQ(r.keys, (std::vector<std::string>{"m_kg", "k_N_m"}));
   for (Eigen::Index j = 0; j < 2; ++j) {
     record(r.keys[static_cast<std::size_t>(j)] + "_range_pct", 100.0 * r.range[j] / r.mean[j]);

@@ -48,7 +48,7 @@ TEST(FrfEstimate, NoiseFreeH1AndH2AreTheReceptanceForEveryResponseKind) {
                                               static_cast<Eigen::Index>(1.3 * kFs), kind);
     const HitSet hits = detect_hits(r.force_n, r.response, kFs);
     const Frf frf = compute_frf(r.force_n, r.response, hits, kind);
-    ASSERT_TRUE(frf.summary.ok) << frf.summary.message;
+    ASSERT_TRUE(frf.summary.ok()) << frf.summary.message;
     EXPECT_EQ(frf.hits_used, 5);
     EXPECT_EQ(frf.exp_window_tau_s, 0.0);  // the tool mode decays within 0.05 s
     EXPECT_NEAR(frf.df_hz, kFs / static_cast<double>(hits.record_samples), 1e-12);
@@ -71,7 +71,7 @@ TEST(FrfEstimate, NoiseLowersCoherenceAwayFromTheResonance) {
                             ResponseKind::kAcceleration, o);
   const HitSet hits = detect_hits(r.force_n, r.response, kFs);
   const Frf frf = compute_frf(r.force_n, r.response, hits, ResponseKind::kAcceleration);
-  ASSERT_TRUE(frf.summary.ok);
+  ASSERT_TRUE(frf.summary.ok());
   const auto at = [&](double f) {
     return static_cast<Eigen::Index>(std::lround(f / frf.df_hz)) - 1;
   };
@@ -89,7 +89,7 @@ TEST(FrfEstimate, SingleHitWarnsThatCoherenceIsMeaningless) {
       synthesize_tap_record({kTool}, {{0.05, 100.0, 2e-4}}, kFs, 8192, ResponseKind::kAcceleration);
   const HitSet hits = detect_hits(r.force_n, r.response, kFs);
   const Frf frf = compute_frf(r.force_n, r.response, hits, ResponseKind::kAcceleration);
-  ASSERT_TRUE(frf.summary.ok);
+  ASSERT_TRUE(frf.summary.ok());
   EXPECT_EQ(frf.hits_used, 1);
   ASSERT_FALSE(frf.summary.warnings.empty());
   EXPECT_THAT(frf.summary.warnings[0], StartsWith("one hit only: coherence is 1"));
@@ -99,7 +99,7 @@ TEST(FrfEstimate, NoAcceptedHitFails) {
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(1000);
   const HitSet hits = detect_hits(zero, zero, kFs);
   const Frf frf = compute_frf(zero, zero, hits, ResponseKind::kAcceleration);
-  EXPECT_FALSE(frf.summary.ok);
+  EXPECT_FALSE(frf.summary.ok());
   EXPECT_THAT(frf.summary.message, StartsWith("no FRF: no accepted hit (no hit above threshold"));
 }
 
@@ -112,7 +112,7 @@ TEST(FrfEstimate, AutomaticExponentialWindowOnlyWhenTheRecordIsTruncated) {
       {light}, five_hits(), kFs, static_cast<Eigen::Index>(1.3 * kFs), ResponseKind::kAcceleration);
   const HitSet hits = detect_hits(r.force_n, r.response, kFs);
   const Frf frf = compute_frf(r.force_n, r.response, hits, ResponseKind::kAcceleration);
-  ASSERT_TRUE(frf.summary.ok);
+  ASSERT_TRUE(frf.summary.ok());
   // Segments of 320 samples (5 % of L = 6400) start at the trigger and 6400 - 26 - 320
   // samples later: T = 6054 / fs = 0.2365 s, r = exp(-11.21 T) = 0.0706, so
   // tau = T / ln(r / 0.01) = 0.1209 s. Within 3 % (the RMS of 11-period segments of a

@@ -51,7 +51,7 @@ TEST(Hits, FiveCleanHitsAreFoundAndShareOneRecordLength) {
   const auto pulses = five_hits();
   const TapRecord r = record(pulses, 1.3);
   const HitSet set = detect_hits(r.force_n, r.response, kFs);
-  ASSERT_TRUE(set.summary.ok) << set.summary.message;
+  ASSERT_TRUE(set.summary.ok()) << set.summary.message;
   ASSERT_EQ(set.hits.size(), 5u);
   EXPECT_EQ(set.accepted_count(), 5);
   EXPECT_TRUE(set.summary.warnings.empty());
@@ -83,7 +83,7 @@ TEST(Hits, DoubleHitIsRejected) {
   pulses.push_back({0.303, 30.0, 2e-4});  // a bounce 3 ms after the second hit
   const TapRecord r = record(pulses, 1.3);
   const HitSet set = detect_hits(r.force_n, r.response, kFs);
-  ASSERT_TRUE(set.summary.ok);
+  ASSERT_TRUE(set.summary.ok());
   ASSERT_EQ(set.hits.size(), 5u);
   EXPECT_EQ(set.accepted_count(), 4);
   EXPECT_FALSE(set.hits[1].accepted);
@@ -100,7 +100,7 @@ TEST(Hits, ClippedResponseIsRejected) {
   const double limit = 0.7 * r.response.cwiseAbs().maxCoeff();  // others reach <= 0.45
   r.response = r.response.cwiseMin(limit).cwiseMax(-limit);
   const HitSet set = detect_hits(r.force_n, r.response, kFs);
-  ASSERT_TRUE(set.summary.ok);
+  ASSERT_TRUE(set.summary.ok());
   EXPECT_EQ(set.accepted_count(), 4);
   EXPECT_FALSE(set.hits[2].accepted);
   EXPECT_THAT(set.hits[2].rejection, StartsWith("clipped: response flat at its extreme"));
@@ -113,7 +113,7 @@ TEST(Hits, ClippedForceIsRejected) {
   const double limit = 0.8 * r.force_n.maxCoeff();
   r.force_n = r.force_n.cwiseMin(limit);
   const HitSet set = detect_hits(r.force_n, r.response, kFs);
-  ASSERT_TRUE(set.summary.ok);
+  ASSERT_TRUE(set.summary.ok());
   EXPECT_EQ(set.accepted_count(), 4);
   EXPECT_THAT(set.hits[4].rejection, StartsWith("clipped: force flat at its extreme"));
 }
@@ -125,7 +125,7 @@ TEST(Hits, NoHitAboveThresholdFails) {
   std::normal_distribution<double> normal(0.0, 0.02);
   for (Eigen::Index i = 0; i < force.size(); ++i) force[i] = normal(rng);
   const HitSet set = detect_hits(force, r.response, kFs);
-  EXPECT_FALSE(set.summary.ok);
+  EXPECT_FALSE(set.summary.ok());
   EXPECT_THAT(set.summary.message, StartsWith("no hit above threshold: largest force peak "));
   EXPECT_THAT(set.summary.message, HasSubstr("(10 x noise std 0.02"));
   EXPECT_TRUE(set.hits.empty());
@@ -135,7 +135,7 @@ TEST(Hits, NegativePulsesHintAtAnInvertedChannel) {
   const auto pulses = five_hits();
   const TapRecord r = record(pulses, 1.3);
   const HitSet set = detect_hits(-r.force_n, r.response, kFs);
-  EXPECT_FALSE(set.summary.ok);
+  EXPECT_FALSE(set.summary.ok());
   EXPECT_THAT(set.summary.message, HasSubstr("is the hammer channel's sign inverted?"));
 }
 
@@ -160,7 +160,7 @@ TEST(Hits, GivenWindowsMatchAutomaticDetection) {
   for (const HammerPulse& p : pulses) windows.push_back({p.time_s - 0.01, p.time_s + 0.2});
   windows.push_back({1.27, 1.29});  // no hit in this one
   const HitSet given = hits_from_windows(r.force_n, r.response, kFs, windows);
-  ASSERT_TRUE(given.summary.ok);
+  ASSERT_TRUE(given.summary.ok());
   EXPECT_EQ(given.accepted_count(), 5);
   EXPECT_EQ(given.record_samples, 512);  // the shortest window, 0.02 s
   for (size_t i = 0; i < 5; ++i) EXPECT_EQ(given.hits[i].trigger, automatic.hits[i].trigger);

@@ -76,10 +76,10 @@ void expect_mode(const char* label, const Mode& fit, const Mode& truth) {
 
 TEST(ModalFitChain, OneToolModeFromAcceleration) {
   const Chain c = run_chain({kTool}, ResponseKind::kAcceleration, 11);
-  ASSERT_TRUE(c.hits.summary.ok) << c.hits.summary.message;
+  ASSERT_TRUE(c.hits.summary.ok()) << c.hits.summary.message;
   EXPECT_EQ(c.hits.accepted_count(), 5);
-  ASSERT_TRUE(c.frf.summary.ok) << c.frf.summary.message;
-  ASSERT_TRUE(c.fit.summary.ok) << c.fit.summary.message;
+  ASSERT_TRUE(c.frf.summary.ok()) << c.frf.summary.message;
+  ASSERT_TRUE(c.fit.summary.ok()) << c.fit.summary.message;
   std::printf("band [%.1f, %.1f] Hz, fit %.2f %%, tau %g s, df %.3f Hz\n", c.fit.band_lo_hz,
               c.fit.band_hi_hz, c.fit.fit_nrmse_pct, c.frf.exp_window_tau_s, c.frf.df_hz);
   ASSERT_EQ(c.fit.modes.size(), 1u);
@@ -88,7 +88,7 @@ TEST(ModalFitChain, OneToolModeFromAcceleration) {
 
 TEST(ModalFitChain, TwoSeparatedModesFromAcceleration) {
   const Chain c = run_chain({kTool, kSecond}, ResponseKind::kAcceleration, 12);
-  ASSERT_TRUE(c.fit.summary.ok) << c.fit.summary.message;
+  ASSERT_TRUE(c.fit.summary.ok()) << c.fit.summary.message;
   std::printf("band [%.1f, %.1f] Hz, fit %.2f %%, tau %g s\n", c.fit.band_lo_hz, c.fit.band_hi_hz,
               c.fit.fit_nrmse_pct, c.frf.exp_window_tau_s);
   ASSERT_EQ(c.fit.modes.size(), 2u);
@@ -101,7 +101,7 @@ TEST(ModalFitChain, TwoModesOverTwentyNoiseSeeds) {
   double worst[2][4] = {};
   for (std::uint64_t seed = 100; seed < 120; ++seed) {
     const Chain c = run_chain({kTool, kSecond}, ResponseKind::kAcceleration, seed);
-    ASSERT_TRUE(c.fit.summary.ok) << "seed " << seed << ": " << c.fit.summary.message;
+    ASSERT_TRUE(c.fit.summary.ok()) << "seed " << seed << ": " << c.fit.summary.message;
     ASSERT_EQ(c.fit.modes.size(), 2u) << "seed " << seed;
     const Mode* truth[2] = {&kTool, &kSecond};
     for (int i = 0; i < 2; ++i) {
@@ -124,14 +124,14 @@ TEST(ModalFitChain, TwoModesOverTwentyNoiseSeeds) {
 
 TEST(ModalFitChain, VelocityResponseIsConvertedToReceptance) {
   const Chain c = run_chain({kTool}, ResponseKind::kVelocity, 13);
-  ASSERT_TRUE(c.fit.summary.ok) << c.fit.summary.message;
+  ASSERT_TRUE(c.fit.summary.ok()) << c.fit.summary.message;
   ASSERT_EQ(c.fit.modes.size(), 1u);
   expect_mode("velocity", c.fit.modes[0], kTool);
 }
 
 TEST(ModalFitChain, DisplacementResponseIsUsedAsIs) {
   const Chain c = run_chain({kTool}, ResponseKind::kDisplacement, 14);
-  ASSERT_TRUE(c.fit.summary.ok) << c.fit.summary.message;
+  ASSERT_TRUE(c.fit.summary.ok()) << c.fit.summary.message;
   ASSERT_EQ(c.fit.modes.size(), 1u);
   expect_mode("displacement", c.fit.modes[0], kTool);
 }
@@ -142,7 +142,7 @@ TEST(ModalFitChain, AutomaticExponentialWindowDampingIsRemoved) {
   // applies (tau = 0.2365 / ln(1.9) = 0.37 s) and its damping must be removed.
   const Mode light = mode_from_modal(891.8, 0.003, 0.03134);
   const Chain c = run_chain({light}, ResponseKind::kAcceleration, 15);
-  ASSERT_TRUE(c.fit.summary.ok) << c.fit.summary.message;
+  ASSERT_TRUE(c.fit.summary.ok()) << c.fit.summary.message;
   std::printf("tau %.4f s, 1/(tau wn) = %.5f, fit %.2f %%\n", c.frf.exp_window_tau_s,
               1.0 / (c.frf.exp_window_tau_s * kTwoPi * light.fn_hz), c.fit.fit_nrmse_pct);
   EXPECT_GT(c.frf.exp_window_tau_s, 0.0);
@@ -157,7 +157,7 @@ TEST(ModalFitChain, FixedStrongExponentialWindowDampingIsRemoved) {
   o.exp_window_auto = false;
   o.exp_window_tau_s = 0.01;
   const Chain c = run_chain({kTool}, ResponseKind::kAcceleration, 16, o);
-  ASSERT_TRUE(c.fit.summary.ok) << c.fit.summary.message;
+  ASSERT_TRUE(c.fit.summary.ok()) << c.fit.summary.message;
   ASSERT_EQ(c.fit.modes.size(), 1u);
   expect_mode("tau = 10 ms", c.fit.modes[0], kTool);
 }
@@ -167,7 +167,7 @@ TEST(ModalFitChain, ResolutionLimitedDampingIsWarned) {
   // df = 4 Hz, so 2 zeta fn < 4 df = 16 Hz.
   const Mode light = mode_from_modal(891.8, 0.001, 0.03134);
   const Chain c = run_chain({light}, ResponseKind::kAcceleration, 17);
-  ASSERT_TRUE(c.fit.summary.ok) << c.fit.summary.message;
+  ASSERT_TRUE(c.fit.summary.ok()) << c.fit.summary.message;
   bool warned = false;
   for (const std::string& w : c.fit.summary.warnings) {
     if (w.find("damping is resolution-limited") == std::string::npos) continue;
@@ -188,7 +188,7 @@ TEST(ModalFitChain, GivenBandAndModeCount) {
   o.band_hz = std::array<double, 2>{600.0, 1300.0};
   o.n_modes = 1;
   const Chain c = run_chain({kTool, kSecond}, ResponseKind::kAcceleration, 18, {}, o);
-  ASSERT_TRUE(c.fit.summary.ok) << c.fit.summary.message;
+  ASSERT_TRUE(c.fit.summary.ok()) << c.fit.summary.message;
   EXPECT_EQ(c.fit.band_lo_hz, 600.0);
   EXPECT_EQ(c.fit.band_hi_hz, 1300.0);
   ASSERT_EQ(c.fit.modes.size(), 1u);
@@ -202,20 +202,20 @@ TEST(ModalFitChain, FailuresSayWhy) {
   ModalFitOptions too_many;
   too_many.n_modes = 3;
   const Chain c = run_chain({kTool}, ResponseKind::kAcceleration, 19, {}, too_many);
-  EXPECT_FALSE(c.fit.summary.ok);
+  EXPECT_FALSE(c.fit.summary.ok());
   EXPECT_THAT(c.fit.summary.message, StartsWith("modal_fit.n_modes = 3 but only 1 peaks with"));
 
   ModalFitOptions one_step;
   one_step.max_iterations = 1;
   const ModalFit stopped = fit_modes(c.frf, one_step);
-  EXPECT_FALSE(stopped.summary.ok);
+  EXPECT_FALSE(stopped.summary.ok());
   EXPECT_THAT(stopped.summary.message,
               HasSubstr("did not converge within modal_fit.max_iterations = 1: "));
 
   ModalFitOptions empty_band;
   empty_band.band_hz = std::array<double, 2>{5000.0, 6000.0};
   const ModalFit none = fit_modes(c.frf, empty_band);
-  EXPECT_FALSE(none.summary.ok);
+  EXPECT_FALSE(none.summary.ok());
   EXPECT_THAT(none.summary.message, StartsWith("no resonance peak with coherence >= 0.9"));
   EXPECT_THAT(none.summary.message, HasSubstr("in the band [5000, 6000] Hz"));
 
@@ -229,7 +229,7 @@ TEST(ModalFitChain, FailuresSayWhy) {
   }
 
   const ModalFit from_failed_frf = fit_modes(Frf{});
-  EXPECT_FALSE(from_failed_frf.summary.ok);
+  EXPECT_FALSE(from_failed_frf.summary.ok());
   EXPECT_EQ(from_failed_frf.summary.message, "no modal fit: the FRF failed (not run)");
 }
 

@@ -94,7 +94,7 @@ TEST_F(RealTap, FiveHitsOneFrfAndAFitThatFollowsIt) {
 
   // Hits: one per 1 s record, 0.8 ms into it (the source's own pre-trigger); all accepted.
   const HitSet hits = detect_hits(d.force, d.response, kFs);
-  ASSERT_TRUE(hits.summary.ok) << hits.summary.message;
+  ASSERT_TRUE(hits.summary.ok()) << hits.summary.message;
   ASSERT_EQ(hits.hits.size(), 5u);
   EXPECT_EQ(hits.accepted_count(), 5);
   for (size_t i = 0; i < 5; ++i) {
@@ -109,7 +109,7 @@ TEST_F(RealTap, FiveHitsOneFrfAndAFitThatFollowsIt) {
   // FRF: 1 Hz bins (records of ~1 s); the response decayed to ~0.5 % of its early RMS by
   // the record end, under the 1 % rule, so no exponential window.
   const Frf frf = compute_frf(d.force, d.response, hits, ResponseKind::kAcceleration);
-  ASSERT_TRUE(frf.summary.ok) << frf.summary.message;
+  ASSERT_TRUE(frf.summary.ok()) << frf.summary.message;
   EXPECT_EQ(frf.hits_used, 5);
   EXPECT_NEAR(frf.df_hz, 1.0, 0.001);
   EXPECT_EQ(frf.exp_window_tau_s, 0.0);
@@ -119,7 +119,7 @@ TEST_F(RealTap, FiveHitsOneFrfAndAFitThatFollowsIt) {
   ASSERT_EQ(main_hz.size(), 4u);
 
   const ModalFit fit = fit_modes(frf);
-  ASSERT_TRUE(fit.summary.ok) << fit.summary.message;
+  ASSERT_TRUE(fit.summary.ok()) << fit.summary.message;
   std::printf("band [%.1f, %.1f] Hz, %zu modes, NRMSE fit %.2f %%, %d iterations\n", fit.band_lo_hz,
               fit.band_hi_hz, fit.modes.size(), fit.fit_nrmse_pct, fit.iterations);
   std::printf("   fn (Hz)     zeta     m (kg)     c (kg/s)     k (N/m)   coherence\n");

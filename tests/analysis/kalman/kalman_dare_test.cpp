@@ -64,7 +64,7 @@ TEST(SteadyStateGain, ScalarMatchesTheQuadraticRoot) {
     const SteadyStateKalman s =
         steady_state_gain(MatrixXd::Constant(1, 1, k.a), MatrixXd::Constant(1, 1, k.c),
                           MatrixXd::Constant(1, 1, k.q), MatrixXd::Constant(1, 1, k.r));
-    ASSERT_TRUE(s.summary.ok) << s.summary.message;
+    ASSERT_TRUE(s.summary.ok()) << s.summary.message;
     const double p = scalar_dare(k.a, k.c, k.q, k.r);
     EXPECT_NEAR(s.P(0, 0), p, kTolerance * p) << "a = " << k.a;
     const double gain = p * k.c / (k.c * k.c * p + k.r);
@@ -93,7 +93,7 @@ TEST(SteadyStateGain, CoupledCaseFromADecoupledOne) {
   P0(1, 1) = scalar_dare(0.6, 1.0, 2.0, 0.2);
   const MatrixXd P_exact = T * P0 * T.transpose();
   const SteadyStateKalman s = steady_state_gain(A, C, 0.5 * (Q + Q.transpose()), R);
-  ASSERT_TRUE(s.summary.ok) << s.summary.message;
+  ASSERT_TRUE(s.summary.ok()) << s.summary.message;
   // 1e-12: T's condition number (~3) times the scalar case's tolerance.
   EXPECT_LT(relative_error(s.P, P_exact), 1e-12);
   MatrixXd K0 = MatrixXd::Zero(2, 2);
@@ -113,7 +113,7 @@ TEST(SteadyStateGain, MatchesMatlabIdareExample) {
   Q << 1.0, 0.0, 0.0, 3.0;
   const SteadyStateKalman s =
       steady_state_gain(A.transpose(), B.transpose(), Q, MatrixXd::Constant(1, 1, 0.1));
-  ASSERT_TRUE(s.summary.ok) << s.summary.message;
+  ASSERT_TRUE(s.summary.ok()) << s.summary.message;
   MatrixXd X(2, 2);
   X << 4.7687, 0.9438, 0.9438, 3.2369;
   EXPECT_LT((s.P - X).cwiseAbs().maxCoeff(), 0.5e-4);
@@ -138,7 +138,7 @@ TEST(SteadyStateGain, MatchesTheIteratedRiccatiEquation) {
     const MatrixXd Q = 0.1 * G * G.transpose();
     const MatrixXd R = V * V.transpose() + 0.1 * MatrixXd::Identity(2, 2);
     const SteadyStateKalman s = steady_state_gain(A, C, Q, R);
-    ASSERT_TRUE(s.summary.ok) << s.summary.message;
+    ASSERT_TRUE(s.summary.ok()) << s.summary.message;
     ASSERT_LT(s.spectral_radius, 0.97);
     EXPECT_LT(relative_error(s.P, riccati_limit(A, C, Q, R)), 1e-10) << "trial " << trial;
     EXPECT_LT(s.residual, 1e-12);
@@ -148,7 +148,7 @@ TEST(SteadyStateGain, MatchesTheIteratedRiccatiEquation) {
   C << 1.0, 0.0;
   const MatrixXd Q = MatrixXd::Identity(2, 2);
   const SteadyStateKalman s = steady_state_gain(A, C, Q, MatrixXd::Identity(1, 1));
-  ASSERT_TRUE(s.summary.ok) << s.summary.message;
+  ASSERT_TRUE(s.summary.ok()) << s.summary.message;
   EXPECT_LT(relative_error(s.P, riccati_limit(A, C, Q, MatrixXd::Identity(1, 1))), 1e-12);
 }
 
@@ -162,7 +162,7 @@ TEST(SteadyStateGain, IsWhereTheTimeVaryingFilterSettles) {
   m.Q << 1.0, 0.0, 0.0, 3.0;
   m.R << 0.1;
   const SteadyStateKalman s = steady_state_gain(m.A, m.C, m.Q, m.R);
-  ASSERT_TRUE(s.summary.ok) << s.summary.message;
+  ASSERT_TRUE(s.summary.ok()) << s.summary.message;
   KalmanFilter<2, 0, 1> f(m, Eigen::Vector2d::Zero(), Eigen::Matrix2d::Identity());
   for (int k = 0; k < 200; ++k) {
     f.predict(Matrix<0, 1>());
@@ -183,7 +183,7 @@ TEST(SteadyStateGain, ReportsANonStabilizingSolution) {
   C << 1.0, 1.0;
   const SteadyStateKalman s =
       steady_state_gain(A, C, MatrixXd::Zero(2, 2), MatrixXd::Identity(1, 1));
-  EXPECT_FALSE(s.summary.ok);
+  EXPECT_FALSE(s.summary.ok());
   EXPECT_NE(s.summary.message.find("not stabilizing (spectral radius of A - L C = 2 >= 1)"),
             std::string::npos)
       << s.summary.message;
@@ -192,7 +192,7 @@ TEST(SteadyStateGain, ReportsANonStabilizingSolution) {
   C2 << 0.0, 1.0;
   const SteadyStateKalman u =
       steady_state_gain(A, C2, MatrixXd::Identity(2, 2), MatrixXd::Identity(1, 1));
-  EXPECT_FALSE(u.summary.ok);
+  EXPECT_FALSE(u.summary.ok());
   EXPECT_NE(u.summary.message.find("(A, C) not detectable"), std::string::npos)
       << u.summary.message;
 }

@@ -190,7 +190,7 @@ TEST(ChipNumerical, FastSearchEqualsPlainSearchOnRecordedToothPaths) {
     RecordingRequest rq;
     for (int j = 32; j < 40; ++j) rq.full_revolutions.push_back(j);
     const SimulationResult sim = simulate(o, rq);
-    ASSERT_TRUE(sim.summary.ok);
+    ASSERT_TRUE(sim.summary.ok());
     const ToothPathGeometry g = tooth_path_geometry(o);
     const int S = g.steps_per_revolution;
     ToothPathHistory h(S, 8 * S, Eigen::Vector2d::Zero(), sim.records[0].first_step);

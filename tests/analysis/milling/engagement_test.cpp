@@ -76,7 +76,7 @@ TEST(Engagement, DownMillingSimulationCutsInsideTheWindowOnly) {
   RecordingRequest rq;
   rq.full_revolutions = {19};
   const SimulationResult r = simulate(o, rq);
-  ASSERT_TRUE(r.summary.ok);
+  ASSERT_TRUE(r.summary.ok());
   const RevolutionRecord& rec = r.records[0];
   const EngagementWindow w = engagement_window(Operation::kDownMilling, kR, kRi);
   // Dynamic term of eq. 2.7: |(d(t) - d(t - tau)) . (sin, cos)| <= 2 max |d| (steady orbit).

@@ -104,7 +104,7 @@ TEST(InertialForces, EccentricSteadyOrbitMatchesClosedForm) {
     rq.trace_first_revolution = 40;
     rq.trace_revolutions = 10;
     const SimulationResult r = simulate(o, rq);
-    ASSERT_TRUE(r.summary.ok);
+    ASSERT_TRUE(r.summary.ok());
     const double h = r.time_step_s;
     const C i(0.0, 1.0);
     const C q = std::exp(-i * kOmega * h);
@@ -161,7 +161,7 @@ TEST(InertialForces, ActThroughoutTheRevolutionUnlikeCuttingForces) {
   RecordingRequest rq;
   rq.full_revolutions = {revolution_at_depth(o, 0.4e-3)};
   const SimulationResult r = simulate(o, rq);
-  ASSERT_TRUE(r.summary.ok);
+  ASSERT_TRUE(r.summary.ok());
   const RevolutionRecord& rec = r.records[0];
   EXPECT_NEAR(rec.depth_m[0], 0.4e-3, 1e-3 / 1290);
   const Eigen::ArrayXd cut = (rec.Fx_N.array().square() + rec.Fy_N.array().square()).sqrt();

@@ -66,7 +66,7 @@ TEST(Simulation, InclinesOfTable52BifurcateWhereTheIndependentModelDoes) {
   {
     const SimulationOptions o = table52(1);
     const SimulationResult r = simulate(o);
-    ASSERT_TRUE(r.summary.ok) << r.summary.message;
+    ASSERT_TRUE(r.summary.ok()) << r.summary.message;
     EXPECT_EQ(r.revolutions, 7740);           // 6 mm * 1290 revolutions per mm
     EXPECT_EQ(r.steps, 12384000);             // 000 sec. 5.2: 12.4 million steps
     EXPECT_DOUBLE_EQ(r.time_step_s, 2.5e-6);  // 000 sec. 5.2
@@ -80,13 +80,13 @@ TEST(Simulation, InclinesOfTable52BifurcateWhereTheIndependentModelDoes) {
   }
   {
     const SimulationResult r = simulate(table52(3));
-    ASSERT_TRUE(r.summary.ok);
+    ASSERT_TRUE(r.summary.ok());
     EXPECT_NEAR(first_spread_depth_mm(r.samples), 5.5, 0.1);
     record("incline3_bifurcation_mm", first_spread_depth_mm(r.samples));
   }
   {
     const SimulationResult r = simulate(table52(2));
-    ASSERT_TRUE(r.summary.ok);
+    ASSERT_TRUE(r.summary.ok());
     EXPECT_EQ(first_spread_depth_mm(r.samples), -1.0);
   }
 }
@@ -99,7 +99,7 @@ TEST(Simulation, AngleOnlySwitchingBifurcatesEarlierAndDiverges) {
     SimulationOptions o = table52(trial);
     o.switching = SwitchingRule::kAngleOnly;
     const SimulationResult r = simulate(o);
-    EXPECT_FALSE(r.summary.ok);
+    EXPECT_FALSE(r.summary.ok());
     EXPECT_NE(r.summary.message.find("left the tool radius"), std::string::npos)
         << r.summary.message;
     EXPECT_LT(r.revolutions, 7740);
@@ -123,7 +123,7 @@ TEST(Simulation, TraditionalAndNumericalModelsAgreeAt1mm) {
   const SimulationResult trad = simulate(o, rq);
   o.chip_model = ChipModel::kNumerical;
   const SimulationResult num = simulate(o, rq);
-  ASSERT_TRUE(trad.summary.ok && num.summary.ok);
+  ASSERT_TRUE(trad.summary.ok() && num.summary.ok());
   const RevolutionRecord& a = trad.records[0];
   const RevolutionRecord& b = num.records[0];
   const double scale = std::max(a.x_m.cwiseAbs().maxCoeff(), a.y_m.cwiseAbs().maxCoeff());
@@ -154,7 +154,7 @@ TEST(Simulation, SamplesRecordsAndTraceAgree) {
   rq.trace_first_revolution = 2;
   rq.trace_revolutions = 5;
   const SimulationResult r = simulate(o, rq);
-  ASSERT_TRUE(r.summary.ok);
+  ASSERT_TRUE(r.summary.ok());
   EXPECT_DOUBLE_EQ(r.samples.angle_rad, 400 * 2 * kPi / 1600);
   ASSERT_EQ(r.records.size(), 2u);
   for (const RevolutionRecord& rec : r.records) {
@@ -215,7 +215,7 @@ TEST(Simulation, NoHeapAllocationInTheStepLoop) {
       chatterlab::testing::g_counting = true;
       const SimulationResult r = simulate(o, rq);
       chatterlab::testing::g_counting = false;
-      ASSERT_TRUE(r.summary.ok);
+      ASSERT_TRUE(r.summary.ok());
       counts[i] = chatterlab::testing::g_allocations;
     }
     EXPECT_EQ(counts[0], counts[1]) << "variant " << variant;

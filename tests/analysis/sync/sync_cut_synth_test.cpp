@@ -35,7 +35,7 @@ CutRecordSpec quiet_spec() {
 TEST(CutSynth, SensorsAreTipOverSensorToTipPlusTheContour) {
   const CutRecordSpec s = quiet_spec();
   const CutRecord r = synthesize_cut_record(s);
-  ASSERT_TRUE(r.summary.ok) << r.summary.message;
+  ASSERT_TRUE(r.summary.ok()) << r.summary.message;
   EXPECT_EQ(r.samples_per_revolution, kP);
   EXPECT_EQ(r.cut_revolutions, 20);
   ASSERT_EQ(r.x_sensor_m.size(), (5 + 20 + 2) * kP);
@@ -43,7 +43,7 @@ TEST(CutSynth, SensorsAreTipOverSensorToTipPlusTheContour) {
   milling::RecordingRequest rq;
   rq.trace_revolutions = 20;
   const milling::SimulationResult sim = milling::simulate(s.cut, rq);
-  ASSERT_TRUE(sim.summary.ok);
+  ASSERT_TRUE(sim.summary.ok());
   for (Eigen::Index i = 0; i < r.x_sensor_m.size(); ++i) {
     const Eigen::Index k = i - 5 * kP;
     const bool cutting = k >= 0 && k < 20 * kP;
@@ -69,7 +69,7 @@ TEST(CutSynth, TachometerEdgesFallWhereTheta1IsTheOffset) {
   const CutRecordSpec s = quiet_spec();
   const CutRecord r = synthesize_cut_record(s);
   const TachAngle t = tach_angle(r.tach_V, kFs, kRpm);
-  ASSERT_TRUE(t.summary.ok) << t.summary.message;
+  ASSERT_TRUE(t.summary.ok()) << t.summary.message;
   EXPECT_EQ(t.edges.size(), 27u);  // one per revolution
   const Eigen::VectorXd theta = theta1_rad(t, s.offset_angle_deg);
   for (Eigen::Index i = 0; i < theta.size(); ++i) {
@@ -161,7 +161,7 @@ TEST(CutSynth, DivergingRunFailsTheSummary) {
   s.cut.switching = milling::SwitchingRule::kAngleOnly;  // 000 sec. 2.2 taken literally
   s.cut.depth = milling::DepthProfile::constant(10e-3, 200);
   const CutRecord r = synthesize_cut_record(s);
-  EXPECT_FALSE(r.summary.ok);
+  EXPECT_FALSE(r.summary.ok());
   EXPECT_EQ(r.summary.message.rfind("simulation failed: deflection left the tool radius", 0), 0u)
       << r.summary.message;
   EXPECT_EQ(r.x_sensor_m.size(), 0);

@@ -27,10 +27,10 @@ OffsetAngleResult run_chain(const CutRecordSpec& spec, const milling::Simulation
                             RevolutionMean* measured_out = nullptr) {
   const CutRecord cut = testing::make_cut(spec);
   const TachAngle tach = tach_angle(cut.tach_V, kFs, kRpm);
-  EXPECT_TRUE(tach.summary.ok) << tach.summary.message;
+  EXPECT_TRUE(tach.summary.ok()) << tach.summary.message;
   const TipDeflection d = tip_deflection(cut.x_sensor_m, cut.y_sensor_m, tach, spec.sensor_to_tip,
                                          cut.air_start_s, cut.air_end_s);
-  EXPECT_TRUE(d.summary.ok) << d.summary.message;
+  EXPECT_TRUE(d.summary.ok()) << d.summary.message;
   const CutSchedule schedule{cut.cut_start_s, cut.cut_end_s, cut.depth_start_m, cut.depth_end_m};
   const ComparisonWindow w = comparison_window(schedule, kRpm, 20);
   const RevolutionRange range = whole_revolutions_in(tach, w.start_s, w.end_s);
@@ -59,7 +59,7 @@ TEST(OffsetAngle, UnequalTeethOffsetIsUnique) {
   const CutRecordSpec spec = testing::sync_test_cut();
   RevolutionMean measured;
   const OffsetAngleResult r = run_chain(spec, spec.cut, &measured);
-  ASSERT_TRUE(r.summary.ok) << r.summary.message;
+  ASSERT_TRUE(r.summary.ok()) << r.summary.message;
   report("unequal", r, spec.offset_angle_deg);
   EXPECT_LT(circular_distance_deg(r.search.offset_angle_deg, spec.offset_angle_deg), kOffsetTolDeg);
   EXPECT_TRUE(r.summary.warnings.empty());
@@ -98,7 +98,7 @@ TEST(OffsetAngle, AlikeTeethOffsetIsDefinedModuloHalfATurn) {
   spec.cut.depth = depth;
   spec.offset_angle_deg = 212.5;
   const OffsetAngleResult r = run_chain(spec, spec.cut);
-  ASSERT_TRUE(r.summary.ok) << r.summary.message;
+  ASSERT_TRUE(r.summary.ok()) << r.summary.message;
   report("alike", r, spec.offset_angle_deg);
   EXPECT_TRUE(r.model_teeth_alike);
   // Reported in [0, 180): 212.5 - 180.
@@ -122,7 +122,7 @@ TEST(OffsetAngle, HammerAndDynamometerModelOnTable52Data) {
   // model's teeth are alike; 3 deg allows "a degree or so".
   const CutRecordSpec spec = testing::sync_test_cut();
   const OffsetAngleResult r = run_chain(spec, testing::hammer_and_dynamometer());
-  ASSERT_TRUE(r.summary.ok) << r.summary.message;
+  ASSERT_TRUE(r.summary.ok()) << r.summary.message;
   report("mismatched", r, spec.offset_angle_deg);
   EXPECT_LT(circular_distance_deg(r.search.offset_angle_deg, spec.offset_angle_deg, 180.0), 3.0);
   EXPECT_TRUE(r.search.ambiguous);
@@ -139,10 +139,10 @@ TEST(OffsetAngle, RampComparedAtADepthBand) {
   spec.offset_angle_deg = 303.7;
   const CutRecord cut = testing::make_cut(spec);
   const TachAngle tach = tach_angle(cut.tach_V, kFs, kRpm);
-  ASSERT_TRUE(tach.summary.ok) << tach.summary.message;
+  ASSERT_TRUE(tach.summary.ok()) << tach.summary.message;
   const TipDeflection d = tip_deflection(cut.x_sensor_m, cut.y_sensor_m, tach, spec.sensor_to_tip,
                                          cut.air_start_s, cut.air_end_s);
-  ASSERT_TRUE(d.summary.ok) << d.summary.message;
+  ASSERT_TRUE(d.summary.ok()) << d.summary.message;
   const CutSchedule schedule{cut.cut_start_s, cut.cut_end_s, cut.depth_start_m, cut.depth_end_m};
   const ComparisonWindow w = comparison_window(schedule, kRpm, 20, 1e-3);
   EXPECT_NEAR(w.depth_m, 1e-3, 1e-12);
@@ -150,7 +150,7 @@ TEST(OffsetAngle, RampComparedAtADepthBand) {
   EXPECT_EQ(range.count, 20);
   const RevolutionMean measured = mean_revolution(d.x_m, d.y_m, tach, range, 400);
   const OffsetAngleResult r = find_offset_angle(measured, spec.cut, w.depth_m);
-  ASSERT_TRUE(r.summary.ok) << r.summary.message;
+  ASSERT_TRUE(r.summary.ok()) << r.summary.message;
   report("ramp", r, spec.offset_angle_deg);
   EXPECT_LT(circular_distance_deg(r.search.offset_angle_deg, spec.offset_angle_deg), kOffsetTolDeg);
   EXPECT_FALSE(r.search.ambiguous);
@@ -206,7 +206,7 @@ TEST(OffsetAngle, DivergingSimulationFailsTheStep) {
   measured.x_m = Eigen::VectorXd::Zero(400);
   measured.y_m = Eigen::VectorXd::Zero(400);
   const OffsetAngleResult r = find_offset_angle(measured, model, 10e-3);
-  EXPECT_FALSE(r.summary.ok);
+  EXPECT_FALSE(r.summary.ok());
   EXPECT_EQ(r.summary.message.rfind("simulation at 10 mm failed: ", 0), 0u) << r.summary.message;
 }
 

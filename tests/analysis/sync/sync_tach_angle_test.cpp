@@ -46,7 +46,7 @@ TEST(TachAngle, ConstantSpeedPhaseIsThetaMinusOffsetEverywhere) {
   const Eigen::VectorXd v =
       constant_speed_tach(static_cast<Eigen::Index>(10.5 * kP), offset, &theta);
   const TachAngle t = tach_angle(v, kFs, kRpm);
-  ASSERT_TRUE(t.summary.ok) << t.summary.message;
+  ASSERT_TRUE(t.summary.ok()) << t.summary.message;
   EXPECT_EQ(t.revolutions, 9);  // edges in revolutions 0..9 (first at 0.59 rev), 10 edges
   EXPECT_NEAR(t.measured_rpm, kRpm, 1e-6);
   EXPECT_NEAR(t.threshold_V, 2.5, 1e-12);  // midway between the 0 V and 5 V levels
@@ -72,7 +72,7 @@ TEST(TachAngle, UnwrappedThetaIncreasesWithTheTrueAngle) {
   const Eigen::VectorXd v =
       constant_speed_tach(static_cast<Eigen::Index>(10.5 * kP), offset, &theta);
   const TachAngle t = tach_angle(v, kFs, kRpm);
-  ASSERT_TRUE(t.summary.ok) << t.summary.message;
+  ASSERT_TRUE(t.summary.ok()) << t.summary.message;
   const Eigen::VectorXd u = theta1_unwrapped_rad(t, 212.5);
   ASSERT_EQ(u.size(), v.size());
   EXPECT_GE(u[0], 0.0);
@@ -101,7 +101,7 @@ TEST(TachAngle, FollowsThreePercentSpeedDrift) {
     v[i] = tach_volts(theta[i], offset, 1.0 / (omega0 * (1 + a * x)), 20.0);
   }
   const TachAngle t = tach_angle(v, kFs, kRpm);
-  ASSERT_TRUE(t.summary.ok) << t.summary.message;
+  ASSERT_TRUE(t.summary.ok()) << t.summary.message;
   const double chord_bound = 2 * kPi * (0.03 / revs) / 8.0;
   const double end_bound = 2 * kPi * (0.03 / revs);
   double worst_inside = 0.0;
@@ -137,7 +137,7 @@ TEST(TachAngle, NoisyPulseWithOddLevelsGivesOneEdgePerRevolution) {
     v[i] = 0.4 + 4.2 / 5.0 * tach_volts(theta, 1.0, kP / (2 * kPi), 20.0) + noise(rng);
   }
   const TachAngle t = tach_angle(v, kFs, kRpm);
-  ASSERT_TRUE(t.summary.ok) << t.summary.message;
+  ASSERT_TRUE(t.summary.ok()) << t.summary.message;
   EXPECT_EQ(t.edges.size(), 8u);
   // Levels are medians: within a few noise standard deviations / sqrt(count).
   EXPECT_NEAR(t.low_V, 0.4, 0.01);
@@ -151,7 +151,7 @@ TEST(TachAngle, GivenThresholdIsUsed) {
   TachOptions o;
   o.threshold_V = 1.25;  // a quarter up the ramp: the edge is half a sample earlier
   const TachAngle t = tach_angle(v, kFs, kRpm, o);
-  ASSERT_TRUE(t.summary.ok) << t.summary.message;
+  ASSERT_TRUE(t.summary.ok()) << t.summary.message;
   EXPECT_EQ(t.threshold_V, 1.25);
   const double expected_edge = 0.5 / (2 * kPi) * kP - 0.5;  // ramp: 2.5 V per sample
   EXPECT_NEAR(t.edges[0], expected_edge, 1e-9);
@@ -159,7 +159,7 @@ TEST(TachAngle, GivenThresholdIsUsed) {
 
 TEST(TachAngle, FlatChannelHasNoEdges) {
   const TachAngle t = tach_angle(Eigen::VectorXd::Constant(1000, 0.2), kFs, kRpm);
-  EXPECT_FALSE(t.summary.ok);
+  EXPECT_FALSE(t.summary.ok());
   EXPECT_EQ(t.summary.message, "no tachometer edges: the tach channel is flat at 0.2 V");
   EXPECT_EQ(t.phase_rad.size(), 0);
 }
@@ -170,7 +170,7 @@ TEST(TachAngle, ThresholdAboveThePulseHasNoEdges) {
   TachOptions o;
   o.threshold_V = 7.0;
   const TachAngle t = tach_angle(v, kFs, kRpm, o);
-  EXPECT_FALSE(t.summary.ok);
+  EXPECT_FALSE(t.summary.ok());
   EXPECT_EQ(t.summary.message,
             "no tachometer edges: tach never rises through 7 V after being below 6.5 V (levels "
             "0 and 5 V, 1600 samples)");
@@ -180,7 +180,7 @@ TEST(TachAngle, SingleEdgeIsTooFew) {
   Eigen::VectorXd theta;
   const Eigen::VectorXd v = constant_speed_tach(300, 0.5, &theta);  // 0.75 revolution
   const TachAngle t = tach_angle(v, kFs, kRpm);
-  EXPECT_FALSE(t.summary.ok);
+  EXPECT_FALSE(t.summary.ok());
   EXPECT_EQ(t.summary.message,
             "fewer than 2 tachometer edges: one edge at t = 0.00031831 s; a revolution needs "
             "two");
@@ -191,7 +191,7 @@ TEST(TachAngle, SpeedMismatchNamesMeasuredAndExpectedRpm) {
   Eigen::VectorXd theta;
   const Eigen::VectorXd v = constant_speed_tach(static_cast<Eigen::Index>(5 * kP), 0.5, &theta);
   const TachAngle t = tach_angle(v, kFs, 16000.0);
-  EXPECT_FALSE(t.summary.ok);
+  EXPECT_FALSE(t.summary.ok());
   EXPECT_EQ(t.summary.message,
             "tachometer speed disagrees with spindle_rpm: revolution 0 (edges at t = "
             "0.00031831 and 0.00431831 s) measures 15000 rpm, expected 16000 rpm (more than 5 % "
@@ -208,7 +208,7 @@ TEST(TachAngle, MissedPulseIsASpeedMismatch) {
     v[i] = 0.0;
   }
   const TachAngle t = tach_angle(v, kFs, kRpm);
-  EXPECT_FALSE(t.summary.ok);
+  EXPECT_FALSE(t.summary.ok());
   EXPECT_TRUE(contains(t.summary.message,
                        "revolution 1 (edges at t = 0.00431831 and "
                        "0.0123183 s) measures 7500 rpm, expected 15000 rpm"))

@@ -38,10 +38,10 @@ CutRecord* TipDeflectionOnSyntheticCut::cut_ = nullptr;
 
 TEST_F(TipDeflectionOnSyntheticCut, ContourRemovedToWithinNoiseOverSqrtNAir) {
   const TachAngle tach = tach_angle(cut_->tach_V, kFs, kRpm);
-  ASSERT_TRUE(tach.summary.ok) << tach.summary.message;
+  ASSERT_TRUE(tach.summary.ok()) << tach.summary.message;
   const TipDeflection d = tip_deflection(cut_->x_sensor_m, cut_->y_sensor_m, tach,
                                          spec_->sensor_to_tip, cut_->air_start_s, cut_->air_end_s);
-  ASSERT_TRUE(d.summary.ok) << d.summary.message;
+  ASSERT_TRUE(d.summary.ok()) << d.summary.message;
   // Air window [0, 11 T] with the edge at 0.41 T: revolutions 0..9 lie inside.
   EXPECT_EQ(d.contour.revolutions.count, 10);
   EXPECT_EQ(d.contour.phase_rad.size(), 400);
@@ -103,11 +103,11 @@ TEST_F(TipDeflectionOnSyntheticCut, ContourRemovedToWithinNoiseOverSqrtNAir) {
 
 TEST_F(TipDeflectionOnSyntheticCut, ShortAirWindowFails) {
   const TachAngle tach = tach_angle(cut_->tach_V, kFs, kRpm);
-  ASSERT_TRUE(tach.summary.ok);
+  ASSERT_TRUE(tach.summary.ok());
   // [0, 1.5 T] holds the revolution from edge 0 (0.41 T) to edge 1 (1.41 T) only.
   const TipDeflection d =
       tip_deflection(cut_->x_sensor_m, cut_->y_sensor_m, tach, 2.78, 0.0, 0.006);
-  EXPECT_FALSE(d.summary.ok);
+  EXPECT_FALSE(d.summary.ok());
   EXPECT_EQ(d.summary.message,
             "air window too short: air_window_s = [0, 0.006] holds 1 whole tachometer "
             "revolution (between rising edges), need at least 2 for the runout contour");
@@ -117,7 +117,7 @@ TEST_F(TipDeflectionOnSyntheticCut, ShortAirWindowFails) {
 TEST_F(TipDeflectionOnSyntheticCut, FailedTachometerFailsTheStep) {
   const TachAngle tach = tach_angle(Eigen::VectorXd::Zero(cut_->tach_V.size()), kFs, kRpm);
   const TipDeflection d = tip_deflection(cut_->x_sensor_m, cut_->y_sensor_m, tach, 2.78, 0.0, 0.04);
-  EXPECT_FALSE(d.summary.ok);
+  EXPECT_FALSE(d.summary.ok());
   EXPECT_EQ(d.summary.message,
             "no tachometer angle: no tachometer edges: the tach channel is flat at 0 V");
 }
@@ -127,7 +127,7 @@ TEST_F(TipDeflectionOnSyntheticCut, NanInTheAirWindowFails) {
   Eigen::VectorXd x = cut_->x_sensor_m;
   x[1000] = std::nan("");
   const TipDeflection d = tip_deflection(x, cut_->y_sensor_m, tach, 2.78, 0.0, 0.044);
-  EXPECT_FALSE(d.summary.ok);
+  EXPECT_FALSE(d.summary.ok());
   EXPECT_EQ(d.summary.message,
             "runout contour not finite: NaN or infinite x or y samples between t = 0.00163667 "
             "and 0.0416367 s (the air revolutions)");
@@ -182,9 +182,9 @@ TEST(TipDeflection, ContourFollowsADriftingSpeed) {
     tach[i] = tach_volts(theta, offset, 1.0 / (omega0 * (1 + a * x)), 20.0);
   }
   const TachAngle t = tach_angle(tach, kFs, kRpm);
-  ASSERT_TRUE(t.summary.ok) << t.summary.message;
+  ASSERT_TRUE(t.summary.ok()) << t.summary.message;
   const TipDeflection d = tip_deflection(xs, ys, t, 2.78, 0.0, n / kFs);
-  ASSERT_TRUE(d.summary.ok) << d.summary.message;
+  ASSERT_TRUE(d.summary.ok()) << d.summary.message;
   EXPECT_EQ(d.contour.revolutions.count, t.revolutions);  // the window spans the record
   const double bound = 2.2e-9 + 1.45e-8;
   // The residual between the first and last edge: the same two errors, once for the contour

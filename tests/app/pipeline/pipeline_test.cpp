@@ -138,7 +138,7 @@ const TestOutcome& outcome(const CampaignResults& r, const std::string& id) {
 }
 
 double value_of(const TestOutcome& t) {
-  const auto* r = t.status.ok ? t.result_as<NumberResult>() : nullptr;
+  const auto* r = t.status.ok() ? t.result_as<NumberResult>() : nullptr;
   if (!r) throw std::logic_error(t.spec->id + " did not run: " + t.status.message);
   return r->value;
 }
@@ -187,17 +187,17 @@ TEST(Pipeline, FailedProviderSkipsRequiredConsumerWithTheReason) {
   const KindRegistry kinds = test_registry();
   const CampaignResults r = run_campaign(load_campaign(d.path(), kinds), {}, kinds);
   const TestOutcome& src = outcome(r, "src");
-  EXPECT_FALSE(src.status.ok);
+  EXPECT_FALSE(src.status.ok());
   EXPECT_EQ(src.failure, Failure::kInput);
   EXPECT_EQ(src.status.message, "src/test.yaml: value: bad on purpose");
   const TestOutcome& k = outcome(r, "k");
-  EXPECT_FALSE(k.status.ok);
+  EXPECT_FALSE(k.status.ok());
   EXPECT_EQ(k.failure, Failure::kInput);
   EXPECT_EQ(k.status.message,
             "needs 'v' from src, which was skipped: src/test.yaml: value: bad on purpose");
   // An optional need: the consumer runs without the value.
   const TestOutcome& opt = outcome(r, "opt");
-  ASSERT_TRUE(opt.status.ok) << opt.status.message;
+  ASSERT_TRUE(opt.status.ok()) << opt.status.message;
   EXPECT_TRUE(std::isnan(value_of(opt)));
   EXPECT_EQ(r.internal_errors(), 0);
 }
@@ -243,7 +243,7 @@ TEST(Pipeline, InternalErrorsAreKeptApartFromInputErrors) {
   EXPECT_EQ(bad.status.message, "internal error: broken invariant on purpose");
   EXPECT_EQ(r.internal_errors(), 1);
   // The rest of the campaign ran, the consumer on the provider that succeeded.
-  ASSERT_TRUE(outcome(r, "k").status.ok);
+  ASSERT_TRUE(outcome(r, "k").status.ok());
   EXPECT_EQ(value_of(outcome(r, "k")), 3.0);
 }
 

@@ -114,9 +114,9 @@ TEST_P(Identification, RecoversTruthFromASynthCut) {
     if (t.spec->id == "cuts/constant") cut = &t;
   }
   ASSERT_NE(cut, nullptr);
-  ASSERT_TRUE(cut->status.ok) << cut->status.message;
+  ASSERT_TRUE(cut->status.ok()) << cut->status.message;
   const CutEstimation& e = cut->result_as<CutOutcome>()->estimation;
-  ASSERT_TRUE(e.summary.ok) << e.summary.message;
+  ASSERT_TRUE(e.summary.ok()) << e.summary.message;
   EXPECT_EQ(identification_source(r), cut);
 
   const TruthComparison truth = compare_with_truth(r);
@@ -163,8 +163,8 @@ TEST_P(Identification, RecoversTruthFromASynthCut) {
       {"ekf-modal-xy-mc", {6, 6}}, {"ekf-coeff-xy", {6, 6}}, {"ekf-coeff-xy-per-tooth", {6, 6}}};
   ASSERT_EQ(e.variants.size(), ranks.size());
   for (const auto& v : e.variants) {
-    ASSERT_TRUE(v.run.summary.ok) << v.run.estimator << ": " << v.run.summary.message;
-    ASSERT_TRUE(v.observability_status.ok) << v.observability_status.message;
+    ASSERT_TRUE(v.run.summary.ok()) << v.run.estimator << ": " << v.run.summary.message;
+    ASSERT_TRUE(v.observability_status.ok()) << v.observability_status.message;
     EXPECT_EQ(v.observability.rank, ranks.at(v.run.estimator).first) << v.run.estimator;
     EXPECT_EQ(v.observability.states, ranks.at(v.run.estimator).second) << v.run.estimator;
     EXPECT_GT(v.run.steps, 390000) << v.run.estimator;  // 0.2 s at 5e-7 s, less one delay
@@ -213,10 +213,10 @@ TEST(IdentificationInput, BadEstimationBlockSkipsOnlyTheEstimation) {
                     "estimation: {window_s: -0.2, repeat_runs: 1}\n");
   for (const auto& t : r.tests) {
     if (t.spec->id != "cuts/constant") continue;
-    ASSERT_TRUE(t.status.ok) << t.status.message;
-    EXPECT_TRUE(t.result_as<CutOutcome>()->offset_status.ok);
+    ASSERT_TRUE(t.status.ok()) << t.status.message;
+    EXPECT_TRUE(t.result_as<CutOutcome>()->offset_status.ok());
     const StepSummary& s = t.result_as<CutOutcome>()->estimation.summary;
-    EXPECT_FALSE(s.ok);
+    EXPECT_FALSE(s.ok());
     EXPECT_NE(s.message.find("estimation.window_s"), std::string::npos) << s.message;
     EXPECT_NE(s.message.find("estimation.repeat_runs"), std::string::npos) << s.message;
   }
@@ -232,11 +232,11 @@ TEST(IdentificationInput, ShortCutSaysWhy) {
                     "estimation: {repeat_runs: 0}\n");
   for (const auto& t : r.tests) {
     if (t.spec->id != "cuts/short") continue;
-    ASSERT_TRUE(t.status.ok) << t.status.message;
-    EXPECT_TRUE(t.result_as<CutOutcome>()->offset_status.ok)
+    ASSERT_TRUE(t.status.ok()) << t.status.message;
+    EXPECT_TRUE(t.result_as<CutOutcome>()->offset_status.ok())
         << t.result_as<CutOutcome>()->offset_status.message;
     const StepSummary& s = t.result_as<CutOutcome>()->estimation.summary;
-    EXPECT_FALSE(s.ok);
+    EXPECT_FALSE(s.ok());
     EXPECT_NE(s.message.find("cuts/short/test.yaml: estimation window"), std::string::npos)
         << s.message;
     EXPECT_NE(s.message.find("four revolutions"), std::string::npos) << s.message;
