@@ -10,11 +10,11 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "app/simulation_spec.h"
+#include "app/synth.h"
 #include "app/yaml_reader.h"
 
 namespace chatterlab::app {
@@ -50,10 +50,10 @@ struct CutSynthSpec {
 
 CutSynthSpec read_cut_synth(const YAML::Node& n, YamlReader& r);
 
-// Writes cuts/<name>/ tests (signals.f32 with channels x, y, tach); appends the per-tooth
-// coefficients to truth (top-level `coefficients`) and each test's offset angle.
+// Writes cuts/<name>/ tests (signals.f32 with channels x, y, tach); adds the modal parameters
+// and per-tooth coefficients to truth (top-level `modal`, `coefficients`) and each test's offset
+// angle.
 int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint64_t seed,
-                    const std::filesystem::path& out, std::ostringstream& truth_top,
-                    std::ostringstream& truth_tests);
+                    const std::filesystem::path& out, SynthTruth& truth);
 
 }  // namespace chatterlab::app
