@@ -31,13 +31,6 @@ void write_text(const std::filesystem::path& p, const std::string& text) {
   if (!out) throw InputError(p.string() + ": cannot write");
 }
 
-std::string num(double v) {
-  std::ostringstream s;
-  s.precision(10);
-  s << v;
-  return s.str();
-}
-
 struct DynoSpec {
   double rpm = 0, depth_m = 0, fs = 0, duration_s = 0, theta_dyn_deg = 0, noise_N = 0;
   double sensitivity = 1.0;
@@ -81,7 +74,7 @@ DynoSpec read_dyno(const YAML::Node& n, YamlReader& r) {
 
 // Writes one dyno-slot test per feed; returns the number written.
 int write_dyno_group(const DynoSpec& d, std::uint64_t seed, const std::filesystem::path& out,
-                     std::ostringstream& truth_tests) {
+                     SynthTruth& truth) {
   int written = 0;
   for (std::size_t i = 0; i < d.feeds_m.size(); ++i) {
     cutting::SlotRecordSpec s;
@@ -107,27 +100,60 @@ int write_dyno_group(const DynoSpec& d, std::uint64_t seed, const std::filesyste
     const auto dir = out / "dyno" / name;
     std::filesystem::create_directories(dir);
     write_signals(dir / "forces.csv", {"Fx", "Fy", "zero"}, {&fx_V, &fy_V, &rec.zero_V});
-    std::ostringstream y;
-    y << "kind: dyno-slot\n"
-      << "spindle_rpm: " << num(d.rpm) << "\n"
-      << "feed_per_tooth_mm: " << num(d.feeds_m[i] * 1e3) << "\n"
-      << "axial_depth_mm: " << num(d.depth_m * 1e3) << "\n"
-      << "sample_rate_hz: " << num(d.fs) << "\n"
-      << "data: {file: forces.csv}\n"
-      << "channels:\n"
-      << "  Fx: {scale: " << num(1.0 / d.sensitivity) << "}\n"
-      << "  Fy: {scale: " << num(1.0 / d.sensitivity) << "}\n"
-      << "  zero: {threshold: 2.5}\n";
-    write_text(dir / "test.yaml", y.str());
+    YAML::Emitter y;
+    configure_synth_emitter(y);
+    y << YAML::BeginMap << YAML::Key << "kind" << YAML::Value << "dyno-slot";
+    y << YAML::Key << "spindle_rpm" << YAML::Value << d.rpm;
+    y << YAML::Key << "feed_per_tooth_mm" << YAML::Value << d.feeds_m[i] * kMToMm;
+    y << YAML::Key << "axial_depth_mm" << YAML::Value << d.depth_m * kMToMm;
+    y << YAML::Key << "sample_rate_hz" << YAML::Value << d.fs;
+    y << YAML::Key << "data" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "file"
+      << YAML::Value << "forces.csv" << YAML::EndMap;
+    y << YAML::Key << "channels" << YAML::Value << YAML::BeginMap;
+    for (const char* force : {"Fx", "Fy"}) {
+      y << YAML::Key << force << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "scale"
+        << YAML::Value << 1.0 / d.sensitivity << YAML::EndMap;
+    }
+    y << YAML::Key << "zero" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+      << "threshold" << YAML::Value << 2.5 << YAML::EndMap;
+    y << YAML::EndMap << YAML::EndMap;
+    write_synth_yaml(dir / "test.yaml", y);
     ++written;
   }
-  truth_tests << "  dyno/: {Ktc_N_m2: " << num(d.k.Kt_N_m2) << ", Kte_N_m: " << num(d.k.Kte_N_m)
-              << ", Krc_N_m2: " << num(d.k.Kr_N_m2) << ", Kre_N_m: " << num(d.k.Kre_N_m)
-              << ", theta_dyn_deg: " << num(d.theta_dyn_deg) << "}\n";
+  truth.tests["dyno/"] = synth_numbers({{"Ktc_N_m2", d.k.Kt_N_m2},
+                                        {"Kte_N_m", d.k.Kte_N_m},
+                                        {"Krc_N_m2", d.k.Kr_N_m2},
+                                        {"Kre_N_m", d.k.Kre_N_m},
+                                        {"theta_dyn_deg", d.theta_dyn_deg}});
   return written;
 }
 
 }  // namespace
+
+std::string synth_number(double v) {
+  std::ostringstream s;
+  s.precision(kSynthDigits);
+  s << v;
+  return s.str();
+}
+
+YAML::Node synth_numbers(const std::vector<std::pair<std::string, double>>& values) {
+  YAML::Node n(YAML::NodeType::Map);
+  for (const auto& [key, v] : values) n[key] = synth_number(v);
+  n.SetStyle(YAML::EmitterStyle::Flow);
+  return n;
+}
+
+void configure_synth_emitter(YAML::Emitter& e) {
+  e.SetDoublePrecision(kSynthDigits);  // the same text as synth_number
+}
+
+void write_synth_yaml(const std::filesystem::path& path, const YAML::Emitter& e) {
+  if (!e.good()) {
+    throw std::logic_error(path.string() + ": YAML emitter: " + e.GetLastError());
+  }
+  write_text(path, std::string(e.c_str()) + "\n");
+}
 
 SynthSummary synthesize_campaign(const std::filesystem::path& spec_yaml,
                                  const std::filesystem::path& out_dir) {
@@ -161,31 +187,43 @@ SynthSummary synthesize_campaign(const std::filesystem::path& spec_yaml,
   throw_if_errors(r);
 
   std::filesystem::create_directories(out_dir);
-  std::ostringstream campaign;
-  campaign << "format: chatterlab-campaign/1\nname: " << summary.campaign_name << "\n";
-  if (root["description"])
-    campaign << "description: >\n  " << root["description"].as<std::string>() << "\n";
+  YAML::Emitter campaign;
+  configure_synth_emitter(campaign);
+  campaign << YAML::BeginMap << YAML::Key << "format" << YAML::Value << "chatterlab-campaign/1";
+  campaign << YAML::Key << "name" << YAML::Value << summary.campaign_name;
+  if (root["description"]) {
+    campaign << YAML::Key << "description" << YAML::Value << YAML::Literal
+             << root["description"].as<std::string>();
+  }
   if (tool) {
-    campaign << "tool: {teeth: " << tool["teeth"].as<int>()
-             << ", radius_mm: " << num(tool["radius_mm"].as<double>());
-    if (tool["helix_deg"]) campaign << ", helix_deg: " << num(tool["helix_deg"].as<double>());
-    campaign << "}\n";
+    campaign << YAML::Key << "tool" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    campaign << YAML::Key << "teeth" << YAML::Value << tool["teeth"].as<int>();
+    campaign << YAML::Key << "radius_mm" << YAML::Value << tool["radius_mm"].as<double>();
+    if (tool["helix_deg"]) {
+      campaign << YAML::Key << "helix_deg" << YAML::Value << tool["helix_deg"].as<double>();
+    }
+    campaign << YAML::EndMap;
   }
-  if (root["workpiece"]) campaign << "workpiece: " << root["workpiece"].as<std::string>() << "\n";
-  if (root["machine"]) campaign << "machine: " << root["machine"].as<std::string>() << "\n";
-  write_text(out_dir / "campaign.yaml", campaign.str());
+  for (const char* key : {"workpiece", "machine"}) {
+    if (root[key]) campaign << YAML::Key << key << YAML::Value << root[key].as<std::string>();
+  }
+  campaign << YAML::EndMap;
+  write_synth_yaml(out_dir / "campaign.yaml", campaign);
 
-  std::ostringstream truth_top, truth_tests;
-  if (tap)
-    summary.tests_written += write_tap_tests(*tap, seed, out_dir, truth_top, truth_tests, !cut);
-  if (dyno) summary.tests_written += write_dyno_group(*dyno, seed, out_dir, truth_tests);
+  SynthTruth truth;
+  if (tap) summary.tests_written += write_tap_tests(*tap, seed, out_dir, truth, !cut);
+  if (dyno) summary.tests_written += write_dyno_group(*dyno, seed, out_dir, truth);
   if (cut) {
-    summary.tests_written +=
-        write_cut_tests(*cut, tool["teeth"].as<int>(), tool["radius_mm"].as<double>() * 1e-3, seed,
-                        out_dir, truth_top, truth_tests);
+    summary.tests_written += write_cut_tests(
+        *cut, tool["teeth"].as<int>(), tool["radius_mm"].as<double>() * 1e-3, seed, out_dir, truth);
   }
-  write_text(out_dir / "truth.yaml", "# Values used by chatterlab synth to write this campaign.\n" +
-                                         truth_top.str() + "tests:\n" + truth_tests.str());
+  YAML::Emitter t;
+  configure_synth_emitter(t);
+  t << YAML::Comment("Values used by chatterlab synth to write this campaign.");
+  t << YAML::BeginMap;
+  for (const auto& kv : truth.top) t << YAML::Key << kv.first << YAML::Value << kv.second;
+  t << YAML::Key << "tests" << YAML::Value << truth.tests << YAML::EndMap;
+  write_synth_yaml(out_dir / "truth.yaml", t);
   return summary;
 }
 

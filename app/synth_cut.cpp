@@ -14,13 +14,6 @@
 namespace chatterlab::app {
 namespace {
 
-std::string num(double v) {
-  std::ostringstream s;
-  s.precision(10);
-  s << v;
-  return s.str();
-}
-
 std::vector<double> numbers(const YAML::Node& n, const std::string& path, YamlReader& r) {
   std::vector<double> v;
   try {
@@ -121,12 +114,11 @@ CutSynthSpec read_cut_synth(const YAML::Node& n, YamlReader& r) {
 }
 
 int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint64_t seed,
-                    const std::filesystem::path& out, std::ostringstream& truth_top,
-                    std::ostringstream& truth_tests) {
+                    const std::filesystem::path& out, SynthTruth& truth) {
   const double per_rev = s.fs_hz * 60.0 / s.spindle_rpm;  // samples per revolution
   const auto P = static_cast<int>(std::lround(per_rev));
   if (std::abs(per_rev - P) > 1e-9 * per_rev || P < 16) {
-    throw InputError("synth: cut.sample_rate_hz * 60 / cut.spindle_rpm = " + num(per_rev) +
+    throw InputError("synth: cut.sample_rate_hz * 60 / cut.spindle_rpm = " + synth_number(per_rev) +
                      ": must be a whole number of samples per revolution (>= 16)");
   }
   if (static_cast<int>(s.Kt_N_m2.size()) != teeth || static_cast<int>(s.Kr_N_m2.size()) != teeth) {
@@ -188,37 +180,53 @@ int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint
     const auto dir = out / "cuts" / c.name;
     std::filesystem::create_directories(dir);
     write_signals(dir / "signals.f32", {"x", "y", "tach"}, {&xv, &yv, &rec.tach_V});
-    std::ofstream y(dir / "test.yaml");
-    y << "kind: cut\noperation: " << s.operation << "\nspindle_rpm: " << num(s.spindle_rpm)
-      << "\nfeed_per_tooth_mm: " << num(s.feed_per_tooth_m / kMmToM)
-      << "\nradial_immersion_mm: " << num(s.radial_immersion_m / kMmToM) << "\naxial_depth_mm: ";
+    YAML::Emitter y;
+    configure_synth_emitter(y);
+    y << YAML::BeginMap << YAML::Key << "kind" << YAML::Value << "cut";
+    y << YAML::Key << "operation" << YAML::Value << s.operation;
+    y << YAML::Key << "spindle_rpm" << YAML::Value << s.spindle_rpm;
+    y << YAML::Key << "feed_per_tooth_mm" << YAML::Value << s.feed_per_tooth_m / kMmToM;
+    y << YAML::Key << "radial_immersion_mm" << YAML::Value << s.radial_immersion_m / kMmToM;
+    y << YAML::Key << "axial_depth_mm" << YAML::Value;
     if (ramp) {
-      y << "[" << num(c.depth_start_m / kMmToM) << ", " << num(rec.depth_end_m / kMmToM) << "]\n";
+      y << YAML::Flow << YAML::BeginSeq << c.depth_start_m / kMmToM << rec.depth_end_m / kMmToM
+        << YAML::EndSeq;
     } else {
-      y << num(c.depth_start_m / kMmToM) << "\n";
+      y << c.depth_start_m / kMmToM;
     }
-    y << "cut_window_s: [" << num(rec.cut_start_s) << ", " << num(rec.cut_end_s) << "]\n"
-      << "air_window_s: [0.0, " << num(rec.air_end_s) << "]\n"
-      << "sample_rate_hz: " << num(s.fs_hz) << "\n"
-      << "data: {file: signals.f32, channels: [x, y, tach]}\n"
-      << "channels:\n"
-      << "  x: {scale: " << num(s.scale_m_per_V) << ", offset: " << num(s.gap_offset_m) << "}\n"
-      << "  y: {scale: " << num(s.scale_m_per_V) << ", offset: " << num(s.gap_offset_m) << "}\n"
-      << "  tach: {threshold: 2.5}\n"
-      << "sensor_to_tip: " << num(s.sensor_to_tip) << "\n";
-    if (!y) throw InputError((dir / "test.yaml").string() + ": cannot write");
-    truth_tests << "  cuts/" << c.name << ": {offset_angle_deg: " << num(offset_deg) << "}\n";
+    y << YAML::Key << "cut_window_s" << YAML::Value << YAML::Flow << YAML::BeginSeq
+      << rec.cut_start_s << rec.cut_end_s << YAML::EndSeq;
+    // From the record's first sample (t = 0, written 0.0 as synth always has).
+    y << YAML::Key << "air_window_s" << YAML::Value << YAML::Flow << YAML::BeginSeq << "0.0"
+      << rec.air_end_s << YAML::EndSeq;
+    y << YAML::Key << "sample_rate_hz" << YAML::Value << s.fs_hz;
+    y << YAML::Key << "data" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "file"
+      << YAML::Value << "signals.f32" << YAML::Key << "channels" << YAML::Value << YAML::Flow
+      << YAML::BeginSeq << "x"
+      << "y"
+      << "tach" << YAML::EndSeq << YAML::EndMap;
+    y << YAML::Key << "channels" << YAML::Value << YAML::BeginMap;
+    for (const char* sensor : {"x", "y"}) {
+      y << YAML::Key << sensor << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+        << "scale" << YAML::Value << s.scale_m_per_V << YAML::Key << "offset" << YAML::Value
+        << s.gap_offset_m << YAML::EndMap;
+    }
+    y << YAML::Key << "tach" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+      << "threshold" << YAML::Value << 2.5 << YAML::EndMap << YAML::EndMap;
+    y << YAML::Key << "sensor_to_tip" << YAML::Value << s.sensor_to_tip << YAML::EndMap;
+    write_synth_yaml(dir / "test.yaml", y);
+    truth.tests["cuts/" + c.name] = synth_numbers({{"offset_angle_deg", offset_deg}});
     ++written;
   }
-  truth_top << "modal: {m_kg: " << num(s.modal.m_kg) << ", c_kg_s: " << num(s.modal.c_kg_s)
-            << ", k_N_m: " << num(s.modal.k_N_m) << "}\n";
-  truth_top << "coefficients: {";
+  truth.top["modal"] =
+      synth_numbers({{"m_kg", s.modal.m_kg}, {"c_kg_s", s.modal.c_kg_s}, {"k_N_m", s.modal.k_N_m}});
+  std::vector<std::pair<std::string, double>> k;
   for (int p = 0; p < teeth; ++p) {
-    truth_top << (p ? ", " : "") << "Kt" << p + 1
-              << "_N_m2: " << num(s.Kt_N_m2[static_cast<std::size_t>(p)]) << ", Kr" << p + 1
-              << "_N_m2: " << num(s.Kr_N_m2[static_cast<std::size_t>(p)]);
+    const std::string n = std::to_string(p + 1);
+    k.emplace_back("Kt" + n + "_N_m2", s.Kt_N_m2[static_cast<std::size_t>(p)]);
+    k.emplace_back("Kr" + n + "_N_m2", s.Kr_N_m2[static_cast<std::size_t>(p)]);
   }
-  truth_top << "}\n";
+  truth.top["coefficients"] = synth_numbers(k);
   return written;
 }
 

@@ -10,12 +10,13 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "app/core/yaml_reader.h"
 #include "app/simulation_spec.h"
+#include "app/synth.h"
+#include "app/core/yaml_reader.h"
 
 namespace chatterlab::app {
 
@@ -50,10 +51,10 @@ struct CutSynthSpec {
 
 CutSynthSpec read_cut_synth(const YAML::Node& n, YamlReader& r);
 
-// Writes cuts/<name>/ tests (signals.f32 with channels x, y, tach); appends the per-tooth
-// coefficients to truth (top-level `coefficients`) and each test's offset angle.
+// Writes cuts/<name>/ tests (signals.f32 with channels x, y, tach); adds the modal parameters
+// and per-tooth coefficients to truth (top-level `modal`, `coefficients`) and each test's offset
+// angle.
 int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint64_t seed,
-                    const std::filesystem::path& out, std::ostringstream& truth_top,
-                    std::ostringstream& truth_tests);
+                    const std::filesystem::path& out, SynthTruth& truth);
 
 }  // namespace chatterlab::app

@@ -10,16 +10,7 @@
 #include "app/kinds/tap/tap_step.h"
 
 namespace chatterlab::app {
-namespace {
-
-std::string num(double v) {
-  std::ostringstream s;
-  s.precision(10);
-  s << v;
-  return s.str();
-}
-
-}  // namespace
+namespace {}  // namespace
 
 TapSynthSpec read_tap_synth(const YAML::Node& n, YamlReader& r) {
   TapSynthSpec s;
@@ -75,8 +66,7 @@ TapSynthSpec read_tap_synth(const YAML::Node& n, YamlReader& r) {
 }
 
 int write_tap_tests(const TapSynthSpec& s, std::uint64_t seed, const std::filesystem::path& out,
-                    std::ostringstream& truth_top, std::ostringstream& truth_tests,
-                    bool write_top_modal) {
+                    SynthTruth& truth, bool write_top_modal) {
   int written = 0;
   std::uint64_t axis_seed = seed;
   for (const auto& [axis, a] : s.axes) {
@@ -102,25 +92,34 @@ int write_tap_tests(const TapSynthSpec& s, std::uint64_t seed, const std::filesy
     const auto dir = out / "tap" / axis;
     std::filesystem::create_directories(dir);
     write_signals(dir / "hits.csv", {"force", "response"}, {&rec.force_n, &rec.response});
-    std::ofstream y(dir / "test.yaml");
-    y << "kind: tap\naxis: " << axis << "\nsample_rate_hz: " << num(s.fs_hz)
-      << "\ndata: {file: hits.csv}\nresponse: " << s.response << "\nhits: auto\n";
-    if (!y) throw InputError((dir / "test.yaml").string() + ": cannot write");
+    YAML::Emitter y;
+    configure_synth_emitter(y);
+    y << YAML::BeginMap << YAML::Key << "kind" << YAML::Value << "tap";
+    y << YAML::Key << "axis" << YAML::Value << axis;
+    y << YAML::Key << "sample_rate_hz" << YAML::Value << s.fs_hz;
+    y << YAML::Key << "data" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "file"
+      << YAML::Value << "hits.csv" << YAML::EndMap;
+    y << YAML::Key << "response" << YAML::Value << s.response;
+    y << YAML::Key << "hits" << YAML::Value << "auto" << YAML::EndMap;
+    write_synth_yaml(dir / "test.yaml", y);
     ++written;
-    truth_tests << "  tap/" << axis << ":\n    modes:\n";
+    YAML::Node modes(YAML::NodeType::Sequence);
     for (const auto& m : a.modes) {
-      truth_tests << "      - {fn_hz: " << num(m.fn_hz) << ", zeta: " << num(m.zeta)
-                  << ", m_kg: " << num(m.m_kg) << ", c_kg_s: " << num(m.c_kg_s)
-                  << ", k_N_m: " << num(m.k_N_m) << "}\n";
+      modes.push_back(synth_numbers({{"fn_hz", m.fn_hz},
+                                     {"zeta", m.zeta},
+                                     {"m_kg", m.m_kg},
+                                     {"c_kg_s", m.c_kg_s},
+                                     {"k_N_m", m.k_N_m}}));
     }
+    truth.tests["tap/" + axis]["modes"] = modes;
   }
   // Top-level `modal`: the first mode of x, unless the campaign has cut tests, whose modal
   // parameters in the cut are the values the identification targets (synth_cut.cpp).
   const auto x = s.axes.find("x");
   if (x != s.axes.end() && write_top_modal) {
     const auto& m = x->second.modes.front();
-    truth_top << "modal: {m_kg: " << num(m.m_kg) << ", c_kg_s: " << num(m.c_kg_s)
-              << ", k_N_m: " << num(m.k_N_m) << "}\n";
+    truth.top["modal"] =
+        synth_numbers({{"m_kg", m.m_kg}, {"c_kg_s", m.c_kg_s}, {"k_N_m", m.k_N_m}});
   }
   return written;
 }

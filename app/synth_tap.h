@@ -7,11 +7,11 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "analysis/frf/mode.h"
+#include "app/synth.h"
 #include "app/core/yaml_reader.h"
 
 namespace chatterlab::app {
@@ -34,10 +34,9 @@ struct TapSynthSpec {
 
 TapSynthSpec read_tap_synth(const YAML::Node& n, YamlReader& r);
 
-// Writes tap/<axis>/ tests; appends the modes to truth (per-test modes, and the top-level
+// Writes tap/<axis>/ tests; adds the modes to truth (per-test modes, and the top-level
 // `modal` from the first mode of x when write_top_modal). Returns the number of tests written.
 int write_tap_tests(const TapSynthSpec& s, std::uint64_t seed, const std::filesystem::path& out,
-                    std::ostringstream& truth_top, std::ostringstream& truth_tests,
-                    bool write_top_modal);
+                    SynthTruth& truth, bool write_top_modal);
 
 }  // namespace chatterlab::app
