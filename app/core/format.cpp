@@ -3,19 +3,11 @@
 #include <cmath>
 #include <cstdio>
 
+#include "analysis/common/number_text.h"
+
 namespace chatterlab::app {
 
-std::string fmt_sig(double v, int digits) {
-  if (!std::isfinite(v)) return "n/a";
-  char buf[64];
-  const double a = std::abs(v);
-  if (a != 0 && (a < 1e-3 || a >= 1e6)) {
-    std::snprintf(buf, sizeof(buf), "%.*e", digits - 1, v);
-  } else {
-    std::snprintf(buf, sizeof(buf), "%.*g", digits, v);
-  }
-  return buf;
-}
+std::string fmt_sig(double v, int digits) { return significant_text(v, digits); }
 
 std::string fmt_fixed(double v, int decimals) {
   if (!std::isfinite(v)) return "n/a";
