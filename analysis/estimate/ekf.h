@@ -7,7 +7,7 @@
 //   update (eqs 4.7-4.9):   S = H P^- H^T + R     (M = I: eqs 4.13, 4.20, 4.28), LDLT of S
 //                           K = P^- H^T S^-1
 //                           x^+ = x^- + K (z - H x^-)
-//                           P^+ = P^- - K H P^-   (= (I - K H) P^-, symmetrised)
+//                           P^+ = P^- - K H P^-   (= (I - K H) P^-, exactly symmetric)
 // H selects the measured deflections (ToolModel::measured_state); Q = diag(q), R = diag(r).
 //
 // Parameter hold: filter.update_consider(z, parameter_states<Tool>()) is the Schmidt "consider"

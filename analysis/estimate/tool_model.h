@@ -22,6 +22,7 @@
 #include <Eigen/Core>
 #include <limits>
 
+#include "analysis/common/modal_parameters.h"
 #include "analysis/estimate/cut_input.h"
 
 namespace chatterlab {
@@ -29,12 +30,8 @@ namespace estimate {
 
 enum class Discretization { kForwardEuler, kSymplecticEuler };
 
-// m, c, k of 000 eqs 2.5-2.6 (equal on x and y, 000 sec. 4.3).
-struct ModalParameters {
-  double m_kg = std::numeric_limits<double>::quiet_NaN();
-  double c_kg_s = std::numeric_limits<double>::quiet_NaN();
-  double k_N_m = std::numeric_limits<double>::quiet_NaN();
-};
+// m, c, k of 000 eqs 2.5-2.6 (equal on x and y, 000 sec. 4.3): the project's one type.
+using ::chatterlab::ModalParameters;
 
 // Which quantities a filter carries in its state.
 template <bool kYAxis, bool kMass, bool kDamping, bool kStiffness, bool kCoefficients>

@@ -5,7 +5,7 @@
 //             its upper triangle mirrored, so P stays symmetric when no measurement follows)
 //   update:   S = H P-_k H^T + R,  H = J_h_x at x-_k,  K = P-_k H^T S^-1        (eq. 4.7)
 //             x+_k = x-_k + K (z_k - h(x-_k))                                    (eq. 4.8)
-//             P+_k = P-_k - K H P-_k, symmetrised (eq. 4.9), or the Joseph form
+//             P+_k = P-_k - K H P-_k, exactly symmetric (eq. 4.9), or the Joseph form
 //
 // Q_d = L Q L^T is the covariance the process noise adds over one step (L = J_f_w); the model
 // adds it to P itself, so a model whose noise enters a few states can skip the zeros. The update

@@ -48,7 +48,8 @@ MeasurementMask<M> all_rows() {
 }
 
 enum class CovarianceUpdate {
-  // P+ = P- - K H P-, symmetrised (000 eq. 4.9); with consider states, P- - A with A = K_opt H P-
+  // P+ = P- - K H P- (000 eq. 4.9), its upper triangle mirrored (K H P- is symmetric in exact
+  // arithmetic); with consider states, P- - A with A = K_opt H P-
   // except A's consider-consider block, which is zero (the exact covariance of that gain).
   kStandard,
   // Joseph form P+ = (I - K H) P- (I - K H)^T + K R K^T, symmetrised: the covariance of the gain

@@ -4,7 +4,8 @@
 //   S   = H P- H^T + R                   innovation covariance (LDL^T, small_ldlt.h; not inverted)
 //   K   = P- H^T S^-1                    gain
 //   x+  = x- + K nu,   nu = z - h(x-)    (nu = z - H x- for a linear model)
-//   P+  = P- - K H P-                    (CovarianceUpdate::kStandard), or
+//   P+  = P- - K H P-                    (CovarianceUpdate::kStandard; K H P- is symmetric, so
+//                                         P+ takes its upper triangle, mirrored), or
 //   P+  = (I - K H) P- (I - K H)^T + K R K^T   (kJoseph), then P+ = (P+ + P+^T) / 2.
 //
 // Consider states c (the Schmidt-Kalman filter): K's rows c are zero. The standard form then
@@ -63,29 +64,29 @@ Innovation gain_update(const Matrix<Rows, 1, MaxRows, 1>& nu,
   out.nis = ldlt.inverse_quadratic_form(nu);
   const bool consider = considered != nullptr && considered->any();
   const bool standard = form == CovarianceUpdate::kStandard;
-  Matrix<N, N> A;  // kStandard: K_opt H P- = K_opt (P- H^T)^T, from the optimal gain
-  if (standard) A.noalias() = K * PHt.transpose();
+  if (standard) {
+    // P+ = P- - A, A = K_opt (P- H^T)^T with K_opt the optimal gain (every row) and A's
+    // consider-consider block zero; A is symmetric, so P+ takes its upper triangle, mirrored.
+    Matrix<N, N> A;
+    A.noalias() = K * PHt.transpose();
+    if (consider) {
+      for (int j = 0; j < N; ++j) {
+        if (!(*considered)[static_cast<std::size_t>(j)]) continue;
+        for (int i = 0; i < N; ++i) {
+          if ((*considered)[static_cast<std::size_t>(i)]) A(i, j) = 0.0;
+        }
+      }
+    }
+    P -= A;
+    P.template triangularView<Eigen::StrictlyLower>() = P.transpose();
+  }
   if (consider) {
     for (int i = 0; i < N; ++i) {
-      if (!(*considered)[static_cast<std::size_t>(i)]) continue;
-      K.row(i).setZero();
-      if (!standard) continue;
-      for (int j = 0; j < N; ++j) {
-        if ((*considered)[static_cast<std::size_t>(j)]) A(i, j) = 0.0;
-      }
+      if ((*considered)[static_cast<std::size_t>(i)]) K.row(i).setZero();
     }
   }
   x.noalias() += K * nu;
-  if (standard) {
-    // P+ = sym(P- - A), entry by entry over the upper triangle.
-    for (int j = 0; j < N; ++j) {
-      for (int i = 0; i <= j; ++i) {
-        const double v = 0.5 * ((P(i, j) - A(i, j)) + (P(j, i) - A(j, i)));
-        P(i, j) = v;
-        P(j, i) = v;
-      }
-    }
-  } else {
+  if (!standard) {
     Matrix<N, N> I_KH = Matrix<N, N>::Identity();
     I_KH.noalias() -= K * H;
     const Matrix<N, N> IKH_P = I_KH * P;

@@ -1,0 +1,90 @@
+// The estimator table (ekf_variants.h): every derived function agrees with it, and its estimate
+// keys are the keys each variant actually reports.
+#include <gtest/gtest.h>
+
+#include <set>
+#include <string>
+#include <vector>
+
+#include "analysis/estimate/ekf_variants.h"
+#include "tests/support/synthetic_cuts.h"
+
+namespace chatterlab {
+namespace estimate {
+namespace {
+
+TEST(EstimatorTable, DerivedFunctionsFollowTheTable) {
+  // all_estimators() lists each id once, in enum order; names are unique and round-trip.
+  const auto ids = all_estimators();
+  ASSERT_EQ(ids.size(), 6u);
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    EXPECT_EQ(static_cast<std::size_t>(ids[i]), i);
+    const EstimatorInfo& e = estimator_info(ids[i]);
+    EXPECT_EQ(e.id, ids[i]);
+    EXPECT_STREQ(estimator_name(ids[i]), e.name);
+    EXPECT_EQ(estimator_from_name(e.name), ids[i]);
+    EXPECT_EQ(estimator_states(ids[i]), e.states);
+    EXPECT_EQ(is_modal(ids[i]), e.modal);
+    names.insert(e.name);
+  }
+  EXPECT_EQ(names.size(), ids.size());
+  // Constant expressions: usable where the app needs a compile-time list.
+  static_assert(estimator_states(EstimatorId::kModalXy) == 7);
+  static_assert(!is_modal(EstimatorId::kCoeffXyPerTooth));
+}
+
+TEST(EstimatorTable, EstimateKeys) {
+  EXPECT_EQ(estimate_keys(EstimatorId::kModalX),
+            (std::vector<std::string>{"m_kg", "c_kg_s", "k_N_m"}));
+  EXPECT_EQ(estimate_keys(EstimatorId::kModalXyMk), (std::vector<std::string>{"m_kg", "k_N_m"}));
+  EXPECT_EQ(estimate_keys(EstimatorId::kModalXyMc), (std::vector<std::string>{"m_kg", "c_kg_s"}));
+  EXPECT_EQ(estimate_keys(EstimatorId::kCoeffXy), (std::vector<std::string>{"Kt_N_m2", "Kr_N_m2"}));
+  EXPECT_EQ(estimate_keys(EstimatorId::kCoeffXyPerTooth, 3),
+            (std::vector<std::string>{"Kt1_N_m2", "Kr1_N_m2", "Kt2_N_m2", "Kr2_N_m2", "Kt3_N_m2",
+                                      "Kr3_N_m2"}));
+  try {
+    estimate_keys(EstimatorId::kCoeffXyPerTooth, 0);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "estimate_keys: teeth = 0: must be >= 1");
+  }
+}
+
+TEST(EstimatorTable, KeysAreWhatEachVariantReports) {
+  // Every variant on a short cut (0.01 s): its EkfResult::estimates carry exactly the table's
+  // keys, in order, and its history the deflection states then those keys.
+  chatterlab::testing::SyntheticCutSpec spec;
+  spec.record_s = 0.01;
+  spec.settle_revolutions = 5;
+  const MeasuredCut cut = chatterlab::testing::synthetic_cut(spec);
+  const CutSetup setup;
+  for (EstimatorId id : all_estimators()) {
+    EkfResult r;
+    if (is_modal(id)) {
+      r = ekf_modal(id, cut, setup,
+                    {chatterlab::testing::table52_coefficients(),
+                     chatterlab::testing::dissertation_start_modal()});
+    } else if (id == EstimatorId::kCoeffXy) {
+      r = ekf_coeff(id, cut, setup, {chatterlab::testing::table52_modal(), {{2e9, 1e9}}});
+    } else {
+      r = ekf_coeff(id, cut, setup,
+                    {chatterlab::testing::table52_modal(),
+                     chatterlab::testing::dissertation_start_coefficients()});
+    }
+    ASSERT_TRUE(r.summary.ok) << estimator_name(id) << ": " << r.summary.message;
+    const std::vector<std::string> keys = estimate_keys(id, setup.teeth);
+    ASSERT_EQ(r.estimates.size(), keys.size()) << estimator_name(id);
+    for (std::size_t j = 0; j < keys.size(); ++j) EXPECT_EQ(r.estimates[j].key, keys[j]);
+    const std::size_t deflections = 2u * static_cast<std::size_t>(estimator_info(id).measured_axes);
+    ASSERT_EQ(r.history.columns.size(), deflections + keys.size());
+    for (std::size_t j = 0; j < keys.size(); ++j) {
+      EXPECT_EQ(r.history.columns[deflections + j], keys[j]);
+    }
+    EXPECT_EQ(r.estimator, estimator_name(id));
+  }
+}
+
+}  // namespace
+}  // namespace estimate
+}  // namespace chatterlab
