@@ -63,7 +63,7 @@ void BM_SteadyStateGain(benchmark::State& state) {
   const LinearModel<N, U, M> m = bench_model();
   for (auto _ : state) {
     const SteadyStateKalman s = steady_state_gain(m.A, m.C, m.Q, m.R);
-    if (!s.summary.ok) state.SkipWithError(s.summary.message.c_str());
+    if (!s.summary.ok()) state.SkipWithError(s.summary.message.c_str());
     benchmark::DoNotOptimize(s.K.data());
   }
   state.SetItemsProcessed(state.iterations());

@@ -39,7 +39,7 @@ TEST(EkfNis, CoeffXyMatchesAnIndependentRecomputation) {
   const CoeffEkfOptions o;
   const ModalParameters modal = chatterlab::testing::table52_modal();
   const EkfResult r = ekf_coeff(EstimatorId::kCoeffXy, cut, setup, {modal, {{2e9, 1e9}}}, o);
-  ASSERT_TRUE(r.summary.ok) << r.summary.message;
+  ASSERT_TRUE(r.summary.ok()) << r.summary.message;
 
   const CoeffXyModel model(cut.time_step_s, o.discretization, modal);
   CoeffXyModel::State x0 = CoeffXyModel::State::Zero();
@@ -108,7 +108,7 @@ TEST(EkfNis, EveryVariantCountsItsUpdates) {
            id == EstimatorId::kCoeffXy ? std::vector<ToothCoefficients>{{2e9, 1e9}}
                                        : chatterlab::testing::dissertation_start_coefficients()});
     }
-    ASSERT_TRUE(r.summary.ok) << estimator_name(id) << ": " << r.summary.message;
+    ASSERT_TRUE(r.summary.ok()) << estimator_name(id) << ": " << r.summary.message;
     chatterlab::testing::record_and_print(std::string(estimator_name(id)) + "_mean_nis",
                                           r.nis.mean);
     const int axes = estimator_info(id).measured_axes;

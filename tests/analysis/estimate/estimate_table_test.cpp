@@ -72,7 +72,7 @@ TEST(EstimatorTable, KeysAreWhatEachVariantReports) {
                     {chatterlab::testing::table52_modal(),
                      chatterlab::testing::dissertation_start_coefficients()});
     }
-    ASSERT_TRUE(r.summary.ok) << estimator_name(id) << ": " << r.summary.message;
+    ASSERT_TRUE(r.summary.ok()) << estimator_name(id) << ": " << r.summary.message;
     const std::vector<std::string> keys = estimate_keys(id, setup.teeth);
     ASSERT_EQ(r.estimates.size(), keys.size()) << estimator_name(id);
     for (std::size_t j = 0; j < keys.size(); ++j) EXPECT_EQ(r.estimates[j].key, keys[j]);
