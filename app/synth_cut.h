@@ -16,7 +16,6 @@
 #include "app/core/yaml_reader.h"
 #include "app/simulation_spec.h"
 #include "app/synth.h"
-#include "app/core/yaml_reader.h"
 
 namespace chatterlab::app {
 

@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "analysis/frf/mode.h"
-#include "app/synth.h"
 #include "app/core/yaml_reader.h"
+#include "app/synth.h"
 
 namespace chatterlab::app {
 

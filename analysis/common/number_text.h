@@ -6,7 +6,8 @@
 namespace chatterlab {
 
 // `digits` significant digits: printf %.*g within 1e-3 <= |v| < 1e6 (and for 0), %.*e outside;
-// a NaN or infinity gives "n/a". The same text as the report's numbers (app/core/format.h fmt_sig calls it).
+// a NaN or infinity gives "n/a". The same text as the report's numbers (app/core/format.h fmt_sig
+// calls it).
 std::string significant_text(double v, int digits = 4);
 
 }  // namespace chatterlab

@@ -7,9 +7,9 @@
 #include <sstream>
 #include <string>
 
+#include "app/cli/validate.h"
 #include "app/core/campaign.h"
 #include "app/synth.h"
-#include "app/cli/validate.h"
 #include "tests/support/temp_campaign.h"
 
 namespace chatterlab::app {

@@ -79,9 +79,9 @@ json variant_rows(const CutEstimation& e) {
     if (run.filters > 1) steps += " (" + std::to_string(run.filters) + " filters)";
     for (std::size_t k = 0; k < run.estimates.size(); ++k) {
       const auto& est = run.estimates[k];
-      std::string spread = rep.summary.ok()                     ? std::string("n/a")
+      std::string spread = rep.summary.ok()     ? std::string("n/a")
                            : !rep.summary.ran() ? std::string("not run")
-                                                              : std::string("failed");
+                                                : std::string("failed");
       if (rep.summary.ok()) {
         const auto it = std::find(rep.keys.begin(), rep.keys.end(), est.key);
         const auto i = static_cast<Eigen::Index>(it - rep.keys.begin());

@@ -28,8 +28,9 @@ void run_offset(const TestSpec& t, const CutStepInputs& in, const sync::TipDefle
       cut_model(t, *in.tool, *in.hammer_x, my,
                 std::vector<CuttingCoefficients>(static_cast<std::size_t>(in.tool->teeth),
                                                  without_edge_terms(*in.coefficients)));
-  sync::CutSchedule schedule{t.kind_spec<CutSpec>().cut_window_s.first, t.kind_spec<CutSpec>().cut_window_s.second,
-                             t.kind_spec<CutSpec>().axial_depth_m.first, t.kind_spec<CutSpec>().axial_depth_m.second};
+  sync::CutSchedule schedule{
+      t.kind_spec<CutSpec>().cut_window_s.first, t.kind_spec<CutSpec>().cut_window_s.second,
+      t.kind_spec<CutSpec>().axial_depth_m.first, t.kind_spec<CutSpec>().axial_depth_m.second};
   // Constant depth: the last settled revolutions. Ramp: revolutions around 1 mm or the middle
   // of the ramp when it does not reach 1 mm (000 figs 5.9-5.14 compare near 2 mm in chatter-
   // free cutting; a depth below the bifurcation keeps the comparison on the periodic orbit).

@@ -1,5 +1,5 @@
 // The tap-test chain on real measured data: five impact-hammer hits on a lightly damped
-// structure (pyFRF showcase, /work/shared/data/real-pyfrf-impact/README.md), 25.6 kHz,
+// structure (pyFRF showcase, shared/data/real-pyfrf-impact/README.md beside the project), 25.6 kHz,
 // response in m/s^2. No modal parameters are published for it, so the checks are what a
 // modal analyst would check: every hit accepted, a clean FRF, a fit that follows it, and
 // fitted frequencies at the FRF's own peaks found by an independent method.
