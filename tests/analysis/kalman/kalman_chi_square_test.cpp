@@ -6,23 +6,14 @@
 #include <functional>
 #include <string>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 #include "analysis/kalman/chi_square.h"
+#include "tests/support/expect_input_error.h"
 
 namespace chatterlab {
 namespace kalman {
 namespace {
-
-constexpr double kPi = 3.141592653589793238463;
-
-void expect_error(const std::function<void()>& f, const std::string& message) {
-  try {
-    f();
-    ADD_FAILURE() << "no error; expected: " << message;
-  } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), message);
-  }
-}
 
 TEST(LogGamma, MatchesFactorialsAndHalfIntegers) {
   // Gamma(n) = (n - 1)!, Gamma(1/2) = sqrt(pi), Gamma(n + 1/2) = (2n)! sqrt(pi) / (4^n n!)
@@ -118,12 +109,14 @@ TEST(ChiSquareBand, MeanBandIsTheSumBandScaled) {
 }
 
 TEST(ChiSquareQuantile, RejectsBadArguments) {
-  expect_error([] { chi_square_quantile(1.0, 2.0); },
-               "chi-square quantile: p = 1: must be in (0, 1)");
-  expect_error([] { chi_square_quantile(0.5, 0.0); }, "chi-square quantile: dof = 0: must be > 0");
-  expect_error([] { chi_square_band(2.0, 1.5); },
-               "chi-square band: confidence = 1.5: must be in (0, 1)");
-  expect_error([] { mean_chi_square_band(0.0, 2.0); }, "chi-square band: count = 0: must be >= 1");
+  chatterlab::testing::expect_input_error([] { chi_square_quantile(1.0, 2.0); },
+                                          "chi-square quantile: p = 1: must be in (0, 1)");
+  chatterlab::testing::expect_input_error([] { chi_square_quantile(0.5, 0.0); },
+                                          "chi-square quantile: dof = 0: must be > 0");
+  chatterlab::testing::expect_input_error([] { chi_square_band(2.0, 1.5); },
+                                          "chi-square band: confidence = 1.5: must be in (0, 1)");
+  chatterlab::testing::expect_input_error([] { mean_chi_square_band(0.0, 2.0); },
+                                          "chi-square band: count = 0: must be >= 1");
 }
 
 }  // namespace

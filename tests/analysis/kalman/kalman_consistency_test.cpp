@@ -13,6 +13,7 @@
 #include "analysis/common/summary.h"
 #include "analysis/kalman/consistency.h"
 #include "analysis/kalman/kalman_filter.h"
+#include "tests/support/expect_input_error.h"
 
 namespace chatterlab {
 namespace kalman {
@@ -186,26 +187,19 @@ TEST(NisMonitor, EmptySummaryIsNotConsistent) {
   EXPECT_EQ(s.report(), "no NIS: no update ran");
 }
 
-void expect_error(const std::function<void()>& f, const std::string& message) {
-  try {
-    f();
-    ADD_FAILURE() << "no error; expected: " << message;
-  } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), message);
-  }
-}
-
 TEST(Nees, ClosedFormAndBadInput) {
   // Diagonal P: sum of e_i^2 / P_ii = 4 / 4 + 9 / 9.
   const Eigen::Vector2d e(2.0, 3.0);
   const Eigen::Matrix2d P = Eigen::Vector2d(4.0, 9.0).asDiagonal();
   EXPECT_DOUBLE_EQ(nees(e, P), 2.0);
-  expect_error([&] { nees(e, Eigen::Matrix3d::Identity()); },
-               "nees: P size = 3 x 3: must be 2 x 2 (the error's size)");
+  chatterlab::testing::expect_input_error([&] { nees(e, Eigen::Matrix3d::Identity()); },
+                                          "nees: P size = 3 x 3: must be 2 x 2 (the error's size)");
   const Eigen::VectorXd nis = Eigen::VectorXd::Ones(10);
-  expect_error([&] { nis_windows(nis, 1, 0); },
-               "nis_windows: window = 0: must be in [1, 10] (the number of updates)");
-  expect_error([&] { nis_windows(nis, 0, 5); }, "nis_windows: dimension = 0: must be >= 1");
+  chatterlab::testing::expect_input_error(
+      [&] { nis_windows(nis, 1, 0); },
+      "nis_windows: window = 0: must be in [1, 10] (the number of updates)");
+  chatterlab::testing::expect_input_error([&] { nis_windows(nis, 0, 5); },
+                                          "nis_windows: dimension = 0: must be >= 1");
 }
 
 }  // namespace

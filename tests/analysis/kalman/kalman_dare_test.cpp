@@ -11,6 +11,7 @@
 #include "analysis/common/summary.h"
 #include "analysis/kalman/dare.h"
 #include "analysis/kalman/kalman_filter.h"
+#include "tests/support/expect_input_error.h"
 
 namespace chatterlab {
 namespace kalman {
@@ -197,36 +198,34 @@ TEST(SteadyStateGain, ReportsANonStabilizingSolution) {
       << u.summary.message;
 }
 
-void expect_error(const std::function<void()>& f, const std::string& message) {
-  try {
-    f();
-    ADD_FAILURE() << "no error; expected: " << message;
-  } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), message);
-  }
-}
-
 TEST(SteadyStateGain, RejectsBadInput) {
   const MatrixXd I2 = MatrixXd::Identity(2, 2), I1 = MatrixXd::Identity(1, 1);
   const MatrixXd C = MatrixXd::Ones(1, 2);
-  expect_error([&] { steady_state_gain(MatrixXd::Ones(2, 3), C, I2, I1); },
-               "dare: A size = 2 x 3: must be square, N >= 1");
-  expect_error([&] { steady_state_gain(I2, MatrixXd::Ones(1, 3), I2, I1); },
-               "dare: C size = 1 x 3: must be M x 2, M >= 1");
-  expect_error([&] { steady_state_gain(I2, C, I1, I1); }, "dare: Q size = 1 x 1: must be 2 x 2");
-  expect_error([&] { steady_state_gain(I2, C, I2, I2); }, "dare: R size = 2 x 2: must be 1 x 1");
+  chatterlab::testing::expect_input_error(
+      [&] { steady_state_gain(MatrixXd::Ones(2, 3), C, I2, I1); },
+      "dare: A size = 2 x 3: must be square, N >= 1");
+  chatterlab::testing::expect_input_error(
+      [&] { steady_state_gain(I2, MatrixXd::Ones(1, 3), I2, I1); },
+      "dare: C size = 1 x 3: must be M x 2, M >= 1");
+  chatterlab::testing::expect_input_error([&] { steady_state_gain(I2, C, I1, I1); },
+                                          "dare: Q size = 1 x 1: must be 2 x 2");
+  chatterlab::testing::expect_input_error([&] { steady_state_gain(I2, C, I2, I2); },
+                                          "dare: R size = 2 x 2: must be 1 x 1");
   MatrixXd Q = I2;
   Q(0, 1) = 0.5;
-  expect_error([&] { steady_state_gain(I2, C, Q, I1); },
-               "dare: Q = asymmetric or non-finite: must be finite and symmetric");
-  expect_error([&] { steady_state_gain(I2, C, -I2, I1); },
-               "dare: Q smallest eigenvalue = -1: must be >= 0 (Q positive semi-definite)");
-  expect_error([&] { steady_state_gain(I2, C, I2, -I1); },
-               "dare: R smallest eigenvalue = -1: must be > 0 (R positive definite)");
+  chatterlab::testing::expect_input_error(
+      [&] { steady_state_gain(I2, C, Q, I1); },
+      "dare: Q = asymmetric or non-finite: must be finite and symmetric");
+  chatterlab::testing::expect_input_error(
+      [&] { steady_state_gain(I2, C, -I2, I1); },
+      "dare: Q smallest eigenvalue = -1: must be >= 0 (Q positive semi-definite)");
+  chatterlab::testing::expect_input_error(
+      [&] { steady_state_gain(I2, C, I2, -I1); },
+      "dare: R smallest eigenvalue = -1: must be > 0 (R positive definite)");
   DareOptions o;
   o.max_iterations = 0;
-  expect_error([&] { steady_state_gain(I2, C, I2, I1, o); },
-               "dare.max_iterations = 0: must be >= 1");
+  chatterlab::testing::expect_input_error([&] { steady_state_gain(I2, C, I2, I1, o); },
+                                          "dare.max_iterations = 0: must be >= 1");
 }
 
 }  // namespace
