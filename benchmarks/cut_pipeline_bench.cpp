@@ -11,7 +11,7 @@
 #include "app/core/campaign.h"
 #include "app/kinds/cut/cut_step.h"
 #include "app/pipeline/pipeline.h"
-#include "app/synth.h"
+#include "app/synth/synth.h"
 
 namespace {
 

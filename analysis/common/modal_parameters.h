@@ -20,12 +20,4 @@ double natural_frequency_hz(const ModalParameters& p);
 // zeta = c / (2 sqrt(k m)) (000 eq. 2.6).
 double damping_ratio(const ModalParameters& p);
 
-// m, c, k of a type that carries them under these names but is not (yet) this type: the
-// transition of the copies in files another change owns (estimate::ModalParameters in
-// estimate/tool_model.h, app::ModalSpec); identity once they are aliases of this type.
-template <class T>
-ModalParameters modal_parameters_of(const T& p) {
-  return {p.m_kg, p.c_kg_s, p.k_N_m};
-}
-
 }  // namespace chatterlab

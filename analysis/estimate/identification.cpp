@@ -81,7 +81,7 @@ IdentificationResult identify_cut(const MeasuredCut& window,
       }
       p.modal = seq.identified;
       milling::SimulationOptions model = in.cut_model;
-      model.modal_x = modal_parameters_of(p.modal);
+      model.modal_x = p.modal;
       model.modal_y = model.modal_x;
       model.coefficients = p.coefficients;
       sync::OffsetAngleResult again =

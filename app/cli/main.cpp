@@ -9,8 +9,8 @@
 #include "app/cli/validate.h"
 #include "app/core/campaign.h"
 #include "app/report/report.h"
-#include "app/simulate.h"
-#include "app/synth.h"
+#include "app/simulate/simulate.h"
+#include "app/synth/synth.h"
 
 namespace {
 
@@ -94,6 +94,7 @@ int main(int argc, char** argv) {
         return usage_error("synth takes one spec file and --out <campaign>");
       }
       const auto s = chatterlab::app::synthesize_campaign(positional[0], out);
+      for (const auto& w : s.warnings) std::cerr << "chatterlab synth: warning: " << w << "\n";
       std::cout << "synth: wrote campaign '" << s.campaign_name << "' with " << s.tests_written
                 << " tests to " << out << "\n";
       return 0;

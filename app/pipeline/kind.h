@@ -28,6 +28,7 @@ class FigureJobs;
 struct FigureSet;
 struct CampaignResults;
 struct TruthComparison;
+struct SynthContext;
 
 // A value a test or group needs, by its name in CampaignValues (campaign_values.h).
 // required: without it the consumer is skipped ("needs the ... from ..., which was skipped:
@@ -120,6 +121,21 @@ class TestKind {
   }
   // Comparison with truth.yaml (a synthetic campaign's known values).
   virtual void compare_truth(const TruthInput&, const TestOutcome&, TruthComparison&) const {}
+
+  // `chatterlab synth` (app/synth/synth.h, docs/format/synth-spec.md): the top-level section of
+  // a synth spec this kind writes tests from (`tap`); empty when the kind has no synth writer.
+  virtual std::string synth_section() const { return ""; }
+  // Parses that section; every problem goes to `r`, keyed `<section>.<key>`. `ctx` holds the
+  // spec's seed and tool (its out and truth are not yet in use).
+  virtual std::shared_ptr<const KindSpec> parse_synth(const YAML::Node& /*section*/,
+                                                      const SynthContext& /*ctx*/,
+                                                      YamlReader& /*r*/) const {
+    return nullptr;
+  }
+  // Writes the section's tests under ctx.out and adds the values used to ctx.truth (the entry
+  // of each test, keyed by its id, and campaign-wide values). Returns the number of tests
+  // written. @throws InputError for a spec the parser could not judge alone
+  virtual int write_synth(const KindSpec& /*section*/, SynthContext& /*ctx*/) const { return 0; }
 };
 
 class GroupProduct {

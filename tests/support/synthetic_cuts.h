@@ -40,7 +40,7 @@ inline std::vector<estimate::ToothCoefficients> dissertation_start_coefficients(
 inline milling::SimulationOptions cut_options(const estimate::ModalParameters& m,
                                               const std::vector<estimate::ToothCoefficients>& k) {
   milling::SimulationOptions o;
-  o.modal_x = modal_parameters_of(m);
+  o.modal_x = m;
   o.coefficients = k;
   return o;
 }

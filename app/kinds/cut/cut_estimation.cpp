@@ -139,9 +139,8 @@ std::vector<std::pair<std::string, double>> keyed_values(
 
 std::vector<std::pair<std::string, double>> scale_free_values(const CutEstimation& e) {
   const estimate::ModalParameters& m = e.modal;
-  std::vector<std::pair<std::string, double>> v = {
-      {"fn_hz", natural_frequency_hz(modal_parameters_of(m))},
-      {"zeta", damping_ratio(modal_parameters_of(m))}};
+  std::vector<std::pair<std::string, double>> v = {{"fn_hz", natural_frequency_hz(m)},
+                                                   {"zeta", damping_ratio(m)}};
   for (std::size_t p = 0; p < e.coefficients.size(); ++p) {
     const std::string n = std::to_string(p + 1);
     v.emplace_back("Kt" + n + "_over_k_per_m", e.coefficients[p].Kt_N_m2 / m.k_N_m);
@@ -286,7 +285,7 @@ CutEstimation run_cut_estimation(const TestSpec& t, const CutStepInputs& in,
 
     // Ramped cuts: the cut simulated with the identified values (000 table 5.1).
     if (t.kind_spec<CutSpec>().axial_depth_m.first != t.kind_spec<CutSpec>().axial_depth_m.second) {
-      const milling::AxisModal axis = modal_parameters_of(out.modal);
+      const milling::AxisModal axis = out.modal;
       const milling::SimulationOptions model = cut_model(t, tool, axis, axis, out.coefficients);
       out.simulated.resize(2);
       const milling::ChipModel models[] = {milling::ChipModel::kTraditional,

@@ -6,6 +6,8 @@
 
 #include "app/core/yaml_reader.h"
 #include "app/kinds/common/conditions.h"
+#include "app/kinds/cut/cut_synth.h"
+#include "app/synth/synth.h"
 
 namespace chatterlab::app {
 
@@ -227,6 +229,16 @@ const TestOutcome* identification_source(const CampaignResults& r) {
     if (!ramped) ramped = &t;
   }
   return ramped;
+}
+
+std::shared_ptr<const KindSpec> CutKind::parse_synth(const YAML::Node& section,
+                                                     const SynthContext& ctx, YamlReader& r) const {
+  if (!ctx.tool_given) r.error("tool", "is required by the spec's `cut` section");
+  return std::make_shared<CutSynthSpec>(read_cut_synth(section, ctx, r));
+}
+
+int CutKind::write_synth(const KindSpec& section, SynthContext& ctx) const {
+  return write_cut_tests(dynamic_cast<const CutSynthSpec&>(section), ctx);
 }
 
 }  // namespace chatterlab::app

@@ -42,6 +42,10 @@ class CutKind : public TestKind {
                                 const std::vector<const TestOutcome*>& ok_tests,
                                 const FigureSet& figures) const override;
   void compare_truth(const TruthInput& in, const TestOutcome& t, TruthComparison& c) const override;
+  std::string synth_section() const override { return "cut"; }
+  std::shared_ptr<const KindSpec> parse_synth(const YAML::Node& section, const SynthContext& ctx,
+                                              YamlReader& r) const override;
+  int write_synth(const KindSpec& section, SynthContext& ctx) const override;
 };
 
 // The estimation options of the campaign (campaign.yaml `estimation:`, defaults when absent).

@@ -6,10 +6,12 @@
 #include "app/core/signals.h"
 #include "app/core/yaml_reader.h"
 #include "app/kinds/common/conditions.h"
+#include "app/kinds/dyno_slot/dyno_slot_synth.h"
 #include "app/pipeline/pipeline.h"
 #include "app/report/figure_jobs.h"
 #include "app/report/results_json.h"
 #include "app/report/truth.h"
+#include "app/synth/synth.h"
 
 namespace chatterlab::app {
 
@@ -342,6 +344,17 @@ render::Figure dyno_force_figure(const DynoGroupResult& g) {
   a.legend = render::LegendPosition::kTopLeft;
   a.series = {ft, fr, lt, lr};
   return fig;
+}
+
+std::shared_ptr<const KindSpec> DynoSlotKind::parse_synth(const YAML::Node& section,
+                                                          const SynthContext& ctx,
+                                                          YamlReader& r) const {
+  if (!ctx.tool_given) r.error("tool", "is required by the spec's `dyno` section");
+  return std::make_shared<DynoSynthSpec>(read_dyno_synth(section, r));
+}
+
+int DynoSlotKind::write_synth(const KindSpec& section, SynthContext& ctx) const {
+  return write_dyno_tests(dynamic_cast<const DynoSynthSpec&>(section), ctx);
 }
 
 }  // namespace chatterlab::app

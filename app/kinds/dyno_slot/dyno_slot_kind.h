@@ -57,6 +57,10 @@ class DynoSlotKind : public TestKind {
   nlohmann::json results(const TestOutcome& out) const override;
   nlohmann::json settings(const CampaignSpec&) const override;
   std::string note(const TestOutcome& out) const override;
+  std::string synth_section() const override { return "dyno"; }
+  std::shared_ptr<const KindSpec> parse_synth(const YAML::Node& section, const SynthContext& ctx,
+                                              YamlReader& r) const override;
+  int write_synth(const KindSpec& section, SynthContext& ctx) const override;
 
  private:
   cutting::DynoOptions options_;

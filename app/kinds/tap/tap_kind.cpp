@@ -7,9 +7,11 @@
 #include "analysis/frf/mode.h"
 #include "app/core/format.h"
 #include "app/core/yaml_reader.h"
+#include "app/kinds/tap/tap_synth.h"
 #include "app/report/figure_jobs.h"
 #include "app/report/results_json.h"
 #include "app/report/truth.h"
+#include "app/synth/synth.h"
 
 namespace chatterlab::app {
 
@@ -348,6 +350,16 @@ render::Figure tap_frf_figure(const TapOutcome& tap) {
   // Not through a, p, c: emplace_back may have moved the earlier panels.
   for (auto& ax : fig.panels) ax.x_range = render::Range{lo, hi};
   return fig;
+}
+
+std::shared_ptr<const KindSpec> TapKind::parse_synth(const YAML::Node& section,
+                                                     const SynthContext& ctx, YamlReader& r) const {
+  (void)ctx;
+  return std::make_shared<TapSynthSpec>(read_tap_synth(section, r));
+}
+
+int TapKind::write_synth(const KindSpec& section, SynthContext& ctx) const {
+  return write_tap_tests(dynamic_cast<const TapSynthSpec&>(section), ctx);
 }
 
 }  // namespace chatterlab::app

@@ -38,6 +38,10 @@ class TapKind : public TestKind {
                                 const FigureSet& figures) const override;
   void compare_truth(const TruthInput& in, const TestOutcome& out,
                      TruthComparison& c) const override;
+  std::string synth_section() const override { return "tap"; }
+  std::shared_ptr<const KindSpec> parse_synth(const YAML::Node& section, const SynthContext& ctx,
+                                              YamlReader& r) const override;
+  int write_synth(const KindSpec& section, SynthContext& ctx) const override;
 
  private:
   TapStepOptions options_;

@@ -48,16 +48,6 @@ TEST(ModalParameters, NothingIsMadeUp) {
   EXPECT_TRUE(std::isnan(p.k_N_m));
 }
 
-TEST(ModalParameters, CopiesWithTheSameMembersConvert) {
-  struct Spec {
-    double m_kg = 1.0, c_kg_s = 2.0, k_N_m = 3.0;
-  };
-  const ModalParameters p = modal_parameters_of(Spec{});
-  EXPECT_EQ(p.m_kg, 1.0);
-  EXPECT_EQ(p.c_kg_s, 2.0);
-  EXPECT_EQ(p.k_N_m, 3.0);
-}
-
 TEST(CuttingCoefficients, ATwoValueToothHasNoEdgeForce) {
   // {Kt, Kr}: 000 eqs 2.1-2.2 (edge terms 0); the cutting terms stay NaN until given.
   const CuttingCoefficients tooth{2.483e8, 2.196e8};

@@ -14,8 +14,8 @@
 #include "app/core/campaign.h"
 #include "app/core/signals.h"
 #include "app/report/report.h"
-#include "app/simulate.h"
-#include "app/synth.h"
+#include "app/simulate/simulate.h"
+#include "app/synth/synth.h"
 #include "tests/support/temp_campaign.h"
 
 namespace chatterlab::app {

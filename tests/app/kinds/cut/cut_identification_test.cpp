@@ -17,13 +17,15 @@
 #include "app/kinds/cut/cut_kind.h"
 #include "app/pipeline/pipeline.h"
 #include "app/report/truth.h"
-#include "app/synth.h"
+#include "app/synth/synth.h"
 #include "tests/support/record_property.h"
+#include "tests/support/synth_spec.h"
 #include "tests/support/temp_campaign.h"
 
 namespace chatterlab::app {
 namespace {
 
+using chatterlab::testing::SynthSpecText;
 using chatterlab::testing::TempDir;
 
 constexpr double kOffsetToleranceDeg = 0.5;
@@ -34,51 +36,15 @@ constexpr double kDampingTolerance = 0.10;
 // Tap tests at the hammer values of 000 sec. 5.1, a three-feed dyno group, one constant-depth
 // cut of 0.35 s (20 settling revolutions, then 0.2 s of data) with no offset given.
 std::string spec(int seed, const std::string& cut_tests,
-                 const std::string& cut_modal = "{m_kg: 0.03134, c_kg_s: 22.21, k_N_m: 9.84e5}",
-                 const std::string& cut_coefficients =
-                     "{Kt_N_m2: [2.483e8, 6.641e9], Kr_N_m2: [2.196e8, 4.154e9]}") {
-  return "format: chatterlab-synth/1\n"
-         "name: ident-" +
-         std::to_string(seed) +
-         "\n"
-         "seed: " +
-         std::to_string(seed) +
-         "\n"
-         "tool: {teeth: 2, radius_mm: 6.35}\n"
-         "tap:\n"
-         "  sample_rate_hz: 25600\n"
-         "  hits: 3\n"
-         "  hit_spacing_s: 1.0\n"
-         "  response: acceleration\n"
-         "  noise_pct: 1.0\n"
-         "  force_peak_N: 150\n"
-         "  pulse_width_s: 0.0003\n"
-         "  axes:\n"
-         "    x: {modes: [{m_kg: 0.03211, c_kg_s: 13.39, k_N_m: 1.023e6}]}\n"
-         "    y: {modes: [{m_kg: 0.03211, c_kg_s: 13.39, k_N_m: 1.023e6}]}\n"
-         "dyno:\n"
-         "  spindle_rpm: 600\n"
-         "  axial_depth_mm: 1.0\n"
-         "  feeds_mm: [0.05, 0.10, 0.15]\n"
-         "  sample_rate_hz: 20000\n"
-         "  duration_s: 1.0\n"
-         "  theta_dyn_deg: 20\n"
-         "  noise_N: 2.0\n"
-         "  coefficients: {Ktc_N_m2: 5.89e8, Kte_N_m: 9080, Krc_N_m2: 3.19e8, Kre_N_m: 11300}\n"
-         "cut:\n"
-         "  sample_rate_hz: 100000\n"
-         "  spindle_rpm: 15000\n"
-         "  feed_per_tooth_mm: 0.0635\n"
-         "  radial_immersion_mm: 0.382\n"
-         "  operation: up-milling\n"
-         "  modal: " +
-         cut_modal + "\n" + "  coefficients: " + cut_coefficients + "\n" +
-         "  sensor_to_tip: 2.78\n"
-         "  noise_m: 5.0e-7\n"
-         "  runout_um: 3.0\n"
-         "  air_revolutions: 30\n"
-         "  tests:\n" +
-         cut_tests;
+                 const std::string& cut_modal = SynthSpecText{}.cut_modal,
+                 const std::string& cut_coefficients = SynthSpecText{}.cut_coefficients) {
+  SynthSpecText t;
+  t.name = "ident-" + std::to_string(seed);
+  t.seed = seed;
+  t.cut_modal = cut_modal;
+  t.cut_coefficients = cut_coefficients;
+  t.cut_tests = cut_tests;
+  return t.text();
 }
 
 CampaignResults synth_and_run(const TempDir& d, const std::string& spec_text,

@@ -1,4 +1,4 @@
-#include "app/simulation_spec.h"
+#include "app/simulate/simulation_spec.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -12,9 +12,9 @@ namespace {
 
 constexpr double kMm = 1e-3;
 
-ModalSpec read_modal(const YAML::Node& n, YamlReader& r, const std::string& path) {
+ModalParameters read_modal(const YAML::Node& n, YamlReader& r, const std::string& path) {
   r.check_keys(n, {"m_kg", "c_kg_s", "k_N_m"}, path);
-  ModalSpec m;
+  ModalParameters m;
   m.m_kg = r.required_double(n, "m_kg", path);
   m.c_kg_s = r.required_double(n, "c_kg_s", path);
   m.k_N_m = r.required_double(n, "k_N_m", path);

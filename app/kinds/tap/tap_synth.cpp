@@ -1,4 +1,4 @@
-#include "app/synth_tap.h"
+#include "app/kinds/tap/tap_synth.h"
 
 #include <cmath>
 #include <fstream>
@@ -10,8 +10,6 @@
 #include "app/kinds/tap/tap_step.h"
 
 namespace chatterlab::app {
-namespace {}  // namespace
-
 TapSynthSpec read_tap_synth(const YAML::Node& n, YamlReader& r) {
   TapSynthSpec s;
   r.check_keys(n,
@@ -65,10 +63,9 @@ TapSynthSpec read_tap_synth(const YAML::Node& n, YamlReader& r) {
   return s;
 }
 
-int write_tap_tests(const TapSynthSpec& s, std::uint64_t seed, const std::filesystem::path& out,
-                    SynthTruth& truth, bool write_top_modal) {
+int write_tap_tests(const TapSynthSpec& s, SynthContext& ctx) {
   int written = 0;
-  std::uint64_t axis_seed = seed;
+  std::uint64_t axis_seed = ctx.seed;
   for (const auto& [axis, a] : s.axes) {
     axis_seed += 7919;
     std::mt19937_64 rng(axis_seed);
@@ -89,7 +86,7 @@ int write_tap_tests(const TapSynthSpec& s, std::uint64_t seed, const std::filesy
     opt.seed = axis_seed;
     const frf::TapRecord rec =
         frf::synthesize_tap_record(a.modes, pulses, s.fs_hz, n, response_kind_of(s.response), opt);
-    const auto dir = out / "tap" / axis;
+    const auto dir = ctx.out / "tap" / axis;
     std::filesystem::create_directories(dir);
     write_signals(dir / "hits.csv", {"force", "response"}, {&rec.force_n, &rec.response});
     YAML::Emitter y;
@@ -111,14 +108,14 @@ int write_tap_tests(const TapSynthSpec& s, std::uint64_t seed, const std::filesy
                                      {"c_kg_s", m.c_kg_s},
                                      {"k_N_m", m.k_N_m}}));
     }
-    truth.tests["tap/" + axis]["modes"] = modes;
+    ctx.truth.tests["tap/" + axis]["modes"] = modes;
   }
-  // Top-level `modal`: the first mode of x, unless the campaign has cut tests, whose modal
-  // parameters in the cut are the values the identification targets (synth_cut.cpp).
+  // Campaign-wide `modal`: the first mode of x (cut tests, written after, replace it with their
+  // modal parameters in the cut, the values their identification targets: cut_synth.cpp).
   const auto x = s.axes.find("x");
-  if (x != s.axes.end() && write_top_modal) {
+  if (x != s.axes.end()) {
     const auto& m = x->second.modes.front();
-    truth.top["modal"] =
+    ctx.truth.top["modal"] =
         synth_numbers({{"m_kg", m.m_kg}, {"c_kg_s", m.c_kg_s}, {"k_N_m", m.k_N_m}});
   }
   return written;

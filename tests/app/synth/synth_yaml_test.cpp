@@ -9,7 +9,7 @@
 
 #include "app/cli/validate.h"
 #include "app/core/campaign.h"
-#include "app/synth.h"
+#include "app/synth/synth.h"
 #include "tests/support/temp_campaign.h"
 
 namespace chatterlab::app {

@@ -1,5 +1,5 @@
-// Tap-test part of `chatterlab synth` (docs/synth.md): hammer hits on x and y with the exact
-// response of given modes, noise, and optionally a double hit.
+// The `tap` section of a synth spec (docs/format/synth-spec.md): hammer hits on x and y with the
+// exact response of given modes, noise, and optionally a double hit.
 #pragma once
 
 #include <yaml-cpp/yaml.h>
@@ -11,8 +11,9 @@
 #include <vector>
 
 #include "analysis/frf/mode.h"
+#include "app/core/campaign.h"
 #include "app/core/yaml_reader.h"
-#include "app/synth.h"
+#include "app/synth/synth.h"
 
 namespace chatterlab::app {
 
@@ -21,7 +22,7 @@ struct TapAxisSynth {
   int double_hit = 0;  // 1-based index of a hit that bounces; 0: none
 };
 
-struct TapSynthSpec {
+struct TapSynthSpec : KindSpec {
   double fs_hz = 25600;
   int hits = 5;
   double hit_spacing_s = 1.0;
@@ -34,9 +35,8 @@ struct TapSynthSpec {
 
 TapSynthSpec read_tap_synth(const YAML::Node& n, YamlReader& r);
 
-// Writes tap/<axis>/ tests; adds the modes to truth (per-test modes, and the top-level
-// `modal` from the first mode of x when write_top_modal). Returns the number of tests written.
-int write_tap_tests(const TapSynthSpec& s, std::uint64_t seed, const std::filesystem::path& out,
-                    SynthTruth& truth, bool write_top_modal);
+// Writes tap/<axis>/ tests; adds the modes to truth (each test's modes, and the campaign-wide
+// `modal` from the first mode of x). Returns the number of tests written.
+int write_tap_tests(const TapSynthSpec& s, SynthContext& ctx);
 
 }  // namespace chatterlab::app

@@ -1,4 +1,4 @@
-#include "app/simulate.h"
+#include "app/simulate/simulate.h"
 
 #include <chrono>
 #include <cmath>
@@ -89,8 +89,8 @@ milling::SimulationOptions simulation_options(const SimulationSpec& s) {
   milling::SimulationOptions o;
   o.teeth = s.teeth;
   o.radius_m = s.radius_m;
-  o.modal_x = modal_parameters_of(s.x);
-  o.modal_y = modal_parameters_of(s.y);
+  o.modal_x = s.x;
+  o.modal_y = s.y;
   for (std::size_t p = 0; p < s.Kt_N_m2.size(); ++p) {
     o.coefficients.push_back(milling::cutting_coefficients(s.Kt_N_m2[p], s.Kr_N_m2.at(p)));
   }

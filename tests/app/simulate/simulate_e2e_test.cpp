@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "analysis/common/summary.h"
-#include "app/simulate.h"
+#include "app/simulate/simulate.h"
 #include "tests/support/temp_campaign.h"
 
 namespace chatterlab::app {

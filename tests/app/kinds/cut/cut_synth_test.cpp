@@ -9,7 +9,7 @@
 #include "app/core/campaign.h"
 #include "app/core/signals.h"
 #include "app/kinds/cut/cut_spec.h"
-#include "app/synth.h"
+#include "app/synth/synth.h"
 #include "tests/support/temp_campaign.h"
 
 namespace chatterlab::app {

@@ -1,4 +1,4 @@
-#include "app/simulation_spec.h"
+#include "app/simulate/simulation_spec.h"
 
 #include <gtest/gtest.h>
 

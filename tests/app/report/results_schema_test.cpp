@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "tests/support/record_property.h"
+#include "tests/support/synth_spec.h"
 #include "tests/support/temp_campaign.h"
 
 namespace {
@@ -34,39 +35,21 @@ using nlohmann::json;
 // Tap tests on x (with a bounced hit) and y, a three-feed dyno-slot group, a constant-depth cut
 // and a short incline that crosses the bifurcation (measured near 2.3 mm): the demo campaign
 // (experiments/demo.synth.yaml) cut down to what runs in a few seconds.
-const char* kSpec =
-    "format: chatterlab-synth/1\n"
-    "name: schema-check\n"
-    "seed: 7\n"
-    "tool: {teeth: 2, radius_mm: 6.35}\n"
-    "tap:\n"
-    "  sample_rate_hz: 12800\n"
-    "  hits: 3\n"
-    "  hit_spacing_s: 0.5\n"
-    "  axes:\n"
-    "    x: {modes: [{m_kg: 0.03211, c_kg_s: 13.39, k_N_m: 1.023e6}], double_hit: 2}\n"
-    "    y: {modes: [{m_kg: 0.03211, c_kg_s: 13.39, k_N_m: 1.023e6}]}\n"
-    "dyno:\n"
-    "  spindle_rpm: 600\n"
-    "  axial_depth_mm: 1.0\n"
-    "  feeds_mm: [0.05, 0.10, 0.15]\n"
-    "  sample_rate_hz: 20000\n"
-    "  duration_s: 0.5\n"
-    "  theta_dyn_deg: 20\n"
-    "  noise_N: 2.0\n"
-    "  coefficients: {Ktc_N_m2: 5.89e8, Kte_N_m: 9080, Krc_N_m2: 3.19e8, Kre_N_m: 11300}\n"
-    "cut:\n"
-    "  sample_rate_hz: 100000\n"
-    "  spindle_rpm: 15000\n"
-    "  feed_per_tooth_mm: 0.0635\n"
-    "  radial_immersion_mm: 0.382\n"
-    "  modal: {m_kg: 0.03134, c_kg_s: 22.21, k_N_m: 9.84e5}\n"
-    "  coefficients: {Kt_N_m2: [2.483e8, 6.641e9], Kr_N_m2: [2.196e8, 4.154e9]}\n"
-    "  air_revolutions: 10\n"
-    "  tests:\n"
-    "    - {name: constant, axial_depth_mm: 1.0, duration_s: 0.1, offset_angle_deg: 147.0}\n"
-    "    - {name: incline, axial_depth_mm: [1.5, 3.0], revolutions_per_mm: 300,\n"
-    "       offset_angle_deg: 212.5}\n";
+std::string spec_text() {
+  chatterlab::testing::SynthSpecText t;
+  t.name = "schema-check";
+  t.seed = 7;
+  t.tap_sample_rate_hz = 12800;
+  t.tap_hit_spacing_s = 0.5;
+  t.tap_double_hit_x = 2;
+  t.dyno_duration_s = 0.5;
+  t.cut_air_revolutions = 10;
+  t.cut_tests =
+      "    - {name: constant, axial_depth_mm: 1.0, duration_s: 0.1, offset_angle_deg: 147.0}\n"
+      "    - {name: incline, axial_depth_mm: [1.5, 3.0], revolutions_per_mm: 300,\n"
+      "       offset_angle_deg: 212.5}\n";
+  return t.text();
+}
 
 // One identification pass over 0.02 s and two repeatability runs: every results.json block of
 // a cut test, at a fraction of the default cost (docs/format/campaign.md, estimation).
@@ -133,7 +116,7 @@ TEST(ResultsSchema, ReportOfASynthCampaignValidatesAndBrokenCopiesFail) {
   const auto t0 = std::chrono::steady_clock::now();
   TempDir d;
   const fs::path bin(CHATTERLAB_BINARY);
-  const fs::path spec = d.write("spec.yaml", kSpec);
+  const fs::path spec = d.write("spec.yaml", spec_text());
   const fs::path campaign = d.path() / "campaign";
   const fs::path out = d.path() / "report";
   const fs::path log = d.path() / "log.txt";

@@ -7,7 +7,7 @@
 #include <ostream>
 
 #include "analysis/milling/simulation_options.h"
-#include "app/simulation_spec.h"
+#include "app/simulate/simulation_spec.h"
 
 namespace chatterlab::app {
 

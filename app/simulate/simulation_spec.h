@@ -6,16 +6,14 @@
 #include <string>
 #include <vector>
 
-namespace chatterlab::app {
+#include "analysis/common/modal_parameters.h"
 
-struct ModalSpec {
-  double m_kg = 0, c_kg_s = 0, k_N_m = 0;
-};
+namespace chatterlab::app {
 
 struct SimulationSpec {
   int teeth = 0;
   double radius_m = 0;
-  ModalSpec x, y;                        // `modal` for both, or modal.x / modal.y
+  ModalParameters x, y;                  // `modal` for both, or modal.x / modal.y
   std::vector<double> Kt_N_m2, Kr_N_m2;  // one per tooth (a single number fills every tooth)
   std::string operation = "up-milling";
   double spindle_rpm = 0, feed_per_tooth_m = 0, radial_immersion_m = 0;

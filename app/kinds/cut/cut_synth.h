@@ -1,5 +1,5 @@
-// Cut-test part of `chatterlab synth` (docs/synth.md): a milling run simulated with known modal
-// parameters and per-tooth coefficients (analysis/milling), seen through capacitive sensors
+// The `cut` section of a synth spec (docs/format/synth-spec.md): a milling run simulated with known
+// modal parameters and per-tooth coefficients (analysis/milling), seen through capacitive sensors
 // (sensor_to_tip, volts with scale and gap offset, runout and out-of-roundness contour,
 // measurement noise) with a laser tachometer whose rising edge falls where theta_1 equals the
 // offset angle (EXPERIMENT_FORMAT.md, kind: cut).
@@ -13,9 +13,10 @@
 #include <string>
 #include <vector>
 
+#include "analysis/common/modal_parameters.h"
+#include "app/core/campaign.h"
 #include "app/core/yaml_reader.h"
-#include "app/simulation_spec.h"
-#include "app/synth.h"
+#include "app/synth/synth.h"
 
 namespace chatterlab::app {
 
@@ -29,13 +30,13 @@ struct CutTestSynth {
   std::optional<double> offset_angle_deg;
 };
 
-struct CutSynthSpec {
+struct CutSynthSpec : KindSpec {
   double fs_hz = 100000;
   double spindle_rpm = 15000;
   double feed_per_tooth_m = 0.0635e-3;
   double radial_immersion_m = 0.382e-3;
   std::string operation = "up-milling";
-  ModalSpec modal;                       // same on x and y
+  ModalParameters modal;                 // same on x and y
   std::vector<double> Kt_N_m2, Kr_N_m2;  // per tooth
   double sensor_to_tip = 2.78;           // 000 sec. 3.1
   double scale_m_per_V = 3.9e-5;         // sensor calibration: metres at the sensor per volt
@@ -48,12 +49,13 @@ struct CutSynthSpec {
   std::vector<CutTestSynth> tests;
 };
 
-CutSynthSpec read_cut_synth(const YAML::Node& n, YamlReader& r);
+// Also checks the section against the spec's tool (one coefficient per tooth) when it has one.
+CutSynthSpec read_cut_synth(const YAML::Node& n, const SynthContext& ctx, YamlReader& r);
 
 // Writes cuts/<name>/ tests (signals.f32 with channels x, y, tach); adds the modal parameters
 // and per-tooth coefficients to truth (top-level `modal`, `coefficients`) and each test's offset
 // angle.
-int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint64_t seed,
-                    const std::filesystem::path& out, SynthTruth& truth);
+// Needs ctx.tool (the parser reports a spec without one).
+int write_cut_tests(const CutSynthSpec& s, SynthContext& ctx);
 
 }  // namespace chatterlab::app

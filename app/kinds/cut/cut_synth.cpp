@@ -1,9 +1,10 @@
-#include "app/synth_cut.h"
+#include "app/kinds/cut/cut_synth.h"
 
 #include <cmath>
 #include <fstream>
 #include <random>
 
+#include "analysis/common/check.h"
 #include "analysis/common/constants.h"
 #include "analysis/common/modal_parameters.h"
 #include "analysis/common/summary.h"
@@ -30,9 +31,14 @@ std::vector<double> numbers(const YAML::Node& n, const std::string& path, YamlRe
   return v;
 }
 
+// Samples per spindle revolution (whole: read_cut_synth checked it).
+int samples_per_revolution(const CutSynthSpec& s) {
+  return static_cast<int>(std::lround(s.fs_hz * 60.0 / s.spindle_rpm));
+}
+
 }  // namespace
 
-CutSynthSpec read_cut_synth(const YAML::Node& n, YamlReader& r) {
+CutSynthSpec read_cut_synth(const YAML::Node& n, const SynthContext& ctx, YamlReader& r) {
   CutSynthSpec s;
   const std::string p = "cut";
   r.check_keys(n,
@@ -80,6 +86,16 @@ CutSynthSpec read_cut_synth(const YAML::Node& n, YamlReader& r) {
   s.air_revolutions =
       static_cast<int>(r.optional_double(n, "air_revolutions", p).value_or(s.air_revolutions));
   if (s.air_revolutions < 2) r.error("cut.air_revolutions", "must be >= 2");
+  const double per_rev = s.fs_hz * 60.0 / s.spindle_rpm;
+  if (!(std::abs(per_rev - std::round(per_rev)) <= 1e-9 * per_rev) || per_rev < 15.5) {
+    r.error("cut.sample_rate_hz", "sample_rate_hz * 60 / spindle_rpm = " + synth_number(per_rev) +
+                                      ": must be a whole number of samples per revolution (>= 16)");
+  }
+  if (ctx.tool && (static_cast<int>(s.Kt_N_m2.size()) != ctx.tool->teeth ||
+                   static_cast<int>(s.Kr_N_m2.size()) != ctx.tool->teeth)) {
+    r.error("cut.coefficients",
+            "need one Kt_N_m2 and one Kr_N_m2 per tooth (" + std::to_string(ctx.tool->teeth) + ")");
+  }
   const YAML::Node tests = n["tests"];
   if (!tests || !tests.IsSequence() || tests.size() == 0) {
     r.error("cut.tests", "must be a list of {name, axial_depth_mm, ..., offset_angle_deg}");
@@ -113,22 +129,14 @@ CutSynthSpec read_cut_synth(const YAML::Node& n, YamlReader& r) {
   return s;
 }
 
-int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint64_t seed,
-                    const std::filesystem::path& out, SynthTruth& truth) {
-  const double per_rev = s.fs_hz * 60.0 / s.spindle_rpm;  // samples per revolution
-  const auto P = static_cast<int>(std::lround(per_rev));
-  if (std::abs(per_rev - P) > 1e-9 * per_rev || P < 16) {
-    throw InputError("synth: cut.sample_rate_hz * 60 / cut.spindle_rpm = " + synth_number(per_rev) +
-                     ": must be a whole number of samples per revolution (>= 16)");
-  }
-  if (static_cast<int>(s.Kt_N_m2.size()) != teeth || static_cast<int>(s.Kr_N_m2.size()) != teeth) {
-    throw InputError("synth: cut.coefficients need one Kt_N_m2 and one Kr_N_m2 per tooth (" +
-                     std::to_string(teeth) + ")");
-  }
+int write_cut_tests(const CutSynthSpec& s, SynthContext& ctx) {
+  CHATTERLAB_CHECK(ctx.tool.has_value(), "cut tests are written with the spec's tool");
+  const int teeth = ctx.tool->teeth;
+  const int P = samples_per_revolution(s);
   milling::SimulationOptions o;
   o.teeth = teeth;
-  o.radius_m = radius_m;
-  o.modal_x = modal_parameters_of(s.modal);
+  o.radius_m = ctx.tool->radius_m();
+  o.modal_x = s.modal;
   for (int p = 0; p < teeth; ++p) {
     o.coefficients.push_back(milling::cutting_coefficients(s.Kt_N_m2[static_cast<std::size_t>(p)],
                                                            s.Kr_N_m2[static_cast<std::size_t>(p)]));
@@ -142,7 +150,7 @@ int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint
   o.steps_per_tooth = sync::sampled_steps_per_tooth(P, teeth);
 
   int written = 0;
-  std::uint64_t test_seed = seed;
+  std::uint64_t test_seed = ctx.seed;
   for (const auto& c : s.tests) {
     test_seed += 104729;
     const bool ramp = c.depth_start_m != c.depth_end_m;
@@ -177,7 +185,7 @@ int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint
     // Volts: the test's channel calibration (scale, gap offset) gives the sensor metres back.
     const Eigen::VectorXd xv = (rec.x_sensor_m.array() - s.gap_offset_m) / s.scale_m_per_V;
     const Eigen::VectorXd yv = (rec.y_sensor_m.array() - s.gap_offset_m) / s.scale_m_per_V;
-    const auto dir = out / "cuts" / c.name;
+    const auto dir = ctx.out / "cuts" / c.name;
     std::filesystem::create_directories(dir);
     write_signals(dir / "signals.f32", {"x", "y", "tach"}, {&xv, &yv, &rec.tach_V});
     YAML::Emitter y;
@@ -215,10 +223,10 @@ int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint
       << "threshold" << YAML::Value << 2.5 << YAML::EndMap << YAML::EndMap;
     y << YAML::Key << "sensor_to_tip" << YAML::Value << s.sensor_to_tip << YAML::EndMap;
     write_synth_yaml(dir / "test.yaml", y);
-    truth.tests["cuts/" + c.name] = synth_numbers({{"offset_angle_deg", offset_deg}});
+    ctx.truth.tests["cuts/" + c.name] = synth_numbers({{"offset_angle_deg", offset_deg}});
     ++written;
   }
-  truth.top["modal"] =
+  ctx.truth.top["modal"] =
       synth_numbers({{"m_kg", s.modal.m_kg}, {"c_kg_s", s.modal.c_kg_s}, {"k_N_m", s.modal.k_N_m}});
   std::vector<std::pair<std::string, double>> k;
   for (int p = 0; p < teeth; ++p) {
@@ -226,7 +234,7 @@ int write_cut_tests(const CutSynthSpec& s, int teeth, double radius_m, std::uint
     k.emplace_back("Kt" + n + "_N_m2", s.Kt_N_m2[static_cast<std::size_t>(p)]);
     k.emplace_back("Kr" + n + "_N_m2", s.Kr_N_m2[static_cast<std::size_t>(p)]);
   }
-  truth.top["coefficients"] = synth_numbers(k);
+  ctx.truth.top["coefficients"] = synth_numbers(k);
   return written;
 }
 
