@@ -9,7 +9,9 @@
 //
 // Q_d = L Q L^T is the covariance the process noise adds over one step (L = J_f_w); the model
 // adds it to P itself, so a model whose noise enters a few states can skip the zeros. The update
-// is measurement_update.h (LDLT of S, consider states, NIS), shared with KalmanFilter.
+// is measurement_update.h (LDLT of S, consider states, NIS); the estimate, its accessors, the
+// covariance prediction and the multirate update are KalmanFilterBase's (filter_base.h), shared
+// with KalmanFilter.
 //
 // Model interface (every matrix fixed-size; nothing here may allocate):
 //
@@ -42,6 +44,7 @@
 
 #include <type_traits>
 
+#include "analysis/kalman/filter_base.h"
 #include "analysis/kalman/filter_types.h"
 #include "analysis/kalman/measurement_update.h"
 
@@ -55,85 +58,77 @@ template <class Model>
 struct SelectsStates<Model, std::void_t<decltype(Model::measured_state(0))>> : std::true_type {};
 
 template <class Model>
-class ExtendedKalmanFilter {
+class ExtendedKalmanFilter : public KalmanFilterBase<ExtendedKalmanFilter<Model>, Model,
+                                                     Model::kStates, Model::kMeasurements> {
+  using Base =
+      KalmanFilterBase<ExtendedKalmanFilter<Model>, Model, Model::kStates, Model::kMeasurements>;
+  friend Base;
+
  public:
   static constexpr int N = Model::kStates;
   static constexpr int M = Model::kMeasurements;
-  using State = typename Model::State;
+  using typename Base::Measurement;
+  using typename Base::State;
+  using typename Base::StateMatrix;
   using Input = typename Model::Input;
-  using Measurement = typename Model::Measurement;
-  using StateMatrix = Matrix<N, N>;
   using MeasurementJacobian = Matrix<M, N>;
+  static_assert(std::is_same_v<typename Model::State, State> &&
+                    std::is_same_v<typename Model::Measurement, Measurement>,
+                "Model::State and Model::Measurement are kalman::Matrix<N, 1>, Matrix<M, 1>");
 
   // @param model the process and measurement model (see above).
   // @param x0 initial estimate x+_0 (N).
   // @param P0 its covariance (N x N), symmetric positive semi-definite.
   ExtendedKalmanFilter(const Model& model, const State& x0, const StateMatrix& P0,
                        const FilterOptions& options = {})
-      : model_(model), x_(x0), P_(P0), options_(options) {}
+      : Base(model, x0, P0, options) {}
 
   // @param u input u_k-1 of f.
   void predict(const Input& u) {
     StateMatrix F;
-    const State x_prior = model_.propagate(x_, u, &F);
-    const StateMatrix FP = F * P_;
-    P_.noalias() = FP * F.transpose();
-    model_.add_process_noise(x_, &P_);
-    P_.template triangularView<Eigen::StrictlyLower>() = P_.transpose();
-    x_ = x_prior;
+    const State x_prior = this->model_.propagate(this->x_, u, &F);
+    this->predict_covariance(F, [this](StateMatrix& P) {
+      this->model_.add_process_noise(this->x_, &P);  // Q_d at x+_k-1
+    });
+    this->x_ = x_prior;
   }
 
-  // @param z measurement z_k (M), every row present.
-  Innovation update(const Measurement& z) { return update_rows(z, nullptr); }
+  // update(z) and update(z, present, considered): KalmanFilterBase (filter_base.h).
 
   // Schmidt update: the states in `considered` keep their estimates (their gain rows are zero);
   // the covariance is the exact one of that gain (measurement_update.h).
   // @param z measurement (M); @param considered consider states.
   Innovation update_consider(const Measurement& z, const StateMask<N>& considered) {
-    return update_rows(z, &considered);
-  }
-
-  // Multirate update: only the rows of z marked in `present` (the rest are ignored). An empty
-  // mask leaves the estimate as it is and returns dimension 0.
-  // @param z measurement (M); @param present rows that arrived; @param considered consider states.
-  Innovation update(const Measurement& z, const MeasurementMask<M>& present,
-                    const StateMask<N>& considered = StateMask<N>()) {
-    if (present.all()) return update_rows(z, &considered);
-    if (present.none()) return Innovation{std::numeric_limits<double>::quiet_NaN(), 0};
-    MeasurementJacobian H;
-    const Measurement h = model_.measure(x_, &H);
-    const MeasurementSubset<N, M> s(z, h, H, model_.measurement_noise(), present);
-    return measurement_update<N, Eigen::Dynamic, M>(s.nu, s.H, s.R, &considered,
-                                                    options_.covariance_update, x_, P_);
-  }
-
-  const State& state() const { return x_; }
-  const StateMatrix& covariance() const { return P_; }
-  const Model& model() const { return model_; }
-  void set_state(const State& x, const StateMatrix& P) {
-    x_ = x;
-    P_ = P;
+    return update_all(z, &considered);
   }
 
  private:
-  Innovation update_rows(const Measurement& z, const StateMask<N>* considered) {
-    const Matrix<M, M>& R = model_.measurement_noise();
+  Innovation update_all(const Measurement& z, const StateMask<N>* considered) {
+    const Model& model = this->model_;
+    const Matrix<M, M>& R = model.measurement_noise();
     if constexpr (SelectsStates<Model>::value) {
       // P- H^T and S are selections of P-; the constant H (for the Joseph form) is H_.
-      const Measurement nu = z - model_.measure(x_, nullptr);
+      const Matrix<N, N>& P = this->P_;
+      const Measurement nu = z - model.measure(this->x_, nullptr);
       Matrix<N, M> PHt;
       Matrix<M, M> S;
-      for (int i = 0; i < M; ++i) PHt.col(i) = P_.col(Model::measured_state(i));
+      for (int i = 0; i < M; ++i) PHt.col(i) = P.col(Model::measured_state(i));
       for (int i = 0; i < M; ++i) {
         for (int j = 0; j < M; ++j) S(i, j) = PHt(Model::measured_state(i), j) + R(i, j);
       }
-      return gain_update<N, M, M>(nu, PHt, S, H_, R, considered, options_.covariance_update, x_,
-                                  P_);
+      return gain_update<N, M, M>(nu, PHt, S, H_, R, considered, this->options_.covariance_update,
+                                  this->x_, this->P_);
     } else {
       MeasurementJacobian H;
-      const Measurement nu = z - model_.measure(x_, &H);
-      return measurement_update<N, M, M>(nu, H, R, considered, options_.covariance_update, x_, P_);
+      const Measurement nu = z - model.measure(this->x_, &H);
+      return this->update_with(nu, H, R, considered);
     }
+  }
+
+  MeasurementSubset<N, M> subset(const Measurement& z, const MeasurementMask<M>& present) const {
+    MeasurementJacobian H;
+    const Measurement h = this->model_.measure(this->x_, &H);
+    return MeasurementSubset<N, M>(z, h, H, this->model_.measurement_noise(), present);
   }
 
   static MeasurementJacobian selection() {
@@ -144,10 +139,6 @@ class ExtendedKalmanFilter {
     return H;
   }
 
-  Model model_;
-  State x_;
-  StateMatrix P_;
-  FilterOptions options_;
   MeasurementJacobian H_ = selection();  // H of a selecting model (zero otherwise, unused)
 };
 

@@ -13,6 +13,7 @@
 // of this model see dare.h.
 #pragma once
 
+#include "analysis/kalman/filter_base.h"
 #include "analysis/kalman/filter_types.h"
 #include "analysis/kalman/measurement_update.h"
 
@@ -30,66 +31,46 @@ struct LinearModel {
 };
 
 template <int N, int U, int M>
-class KalmanFilter {
+class KalmanFilter : public KalmanFilterBase<KalmanFilter<N, U, M>, LinearModel<N, U, M>, N, M> {
+  using Base = KalmanFilterBase<KalmanFilter<N, U, M>, LinearModel<N, U, M>, N, M>;
+  friend Base;
+
  public:
   static constexpr int kStates = N;
   static constexpr int kInputs = U;
   static constexpr int kMeasurements = M;
   using Model = LinearModel<N, U, M>;
-  using State = Matrix<N, 1>;
-  using StateMatrix = Matrix<N, N>;
+  using typename Base::Measurement;
+  using typename Base::State;
+  using typename Base::StateMatrix;
   using Input = Matrix<U, 1>;
-  using Measurement = Matrix<M, 1>;
 
   // @param model A (N x N), B (N x U), C (M x N), Q (N x N), R (M x M).
   // @param x0 estimate of x[0] (N).
   // @param P0 its covariance (N x N), symmetric positive semi-definite.
   KalmanFilter(const Model& model, const State& x0, const StateMatrix& P0,
                const FilterOptions& options = {})
-      : model_(model), x_(x0), P_(P0), options_(options) {}
+      : Base(model, x0, P0, options) {}
 
   // @param u input u[k] (U).
   void predict(const Input& u) {
-    x_ = model_.A * x_ + model_.B * u;
-    const StateMatrix AP = model_.A * P_;
-    P_.noalias() = AP * model_.A.transpose();
-    P_ += model_.Q;
-    P_.template triangularView<Eigen::StrictlyLower>() = P_.transpose();
+    const Model& m = this->model_;
+    this->x_ = m.A * this->x_ + m.B * u;
+    this->predict_covariance(m.A, [&m](StateMatrix& P) { P += m.Q; });
   }
 
-  // @param z measurement of the current state (M).
-  Innovation update(const Measurement& z) { return update(z, all_rows<M>(), StateMask<N>()); }
-
-  // Only the rows of z marked in `present` (the others are ignored, whatever their value). An
-  // empty mask leaves the estimate as it is and returns dimension 0.
-  // @param z measurement (M); @param present rows of z that arrived.
-  // @param considered consider states: not corrected (see measurement_update.h).
-  Innovation update(const Measurement& z, const MeasurementMask<M>& present,
-                    const StateMask<N>& considered = StateMask<N>()) {
-    if (present.all()) {
-      const Measurement nu = z - model_.C * x_;
-      return measurement_update<N, M, M>(nu, model_.C, model_.R, &considered,
-                                         options_.covariance_update, x_, P_);
-    }
-    if (present.none()) return Innovation{std::numeric_limits<double>::quiet_NaN(), 0};
-    const MeasurementSubset<N, M> s(z, model_.C * x_, model_.C, model_.R, present);
-    return measurement_update<N, Eigen::Dynamic, M>(s.nu, s.H, s.R, &considered,
-                                                    options_.covariance_update, x_, P_);
-  }
-
-  const State& state() const { return x_; }
-  const StateMatrix& covariance() const { return P_; }
-  const Model& model() const { return model_; }
-  void set_state(const State& x, const StateMatrix& P) {
-    x_ = x;
-    P_ = P;
-  }
+  // update(z) and update(z, present, considered): KalmanFilterBase (filter_base.h).
 
  private:
-  Model model_;
-  State x_;
-  StateMatrix P_;
-  FilterOptions options_;
+  // nu = z - C x-, H = C.
+  Innovation update_all(const Measurement& z, const StateMask<N>* considered) {
+    const Model& m = this->model_;
+    return this->update_with(z - m.C * this->x_, m.C, m.R, considered);
+  }
+  MeasurementSubset<N, M> subset(const Measurement& z, const MeasurementMask<M>& present) const {
+    const Model& m = this->model_;
+    return MeasurementSubset<N, M>(z, m.C * this->x_, m.C, m.R, present);
+  }
 };
 
 }  // namespace kalman
