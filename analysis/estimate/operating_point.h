@@ -29,7 +29,8 @@ OperatingSample largest_force_sample(const MeasuredCut& cut, const CutSetup& set
                                      const std::vector<ToothCoefficients>& coefficients);
 
 // One variant's state, force input and held m, c, k at the operating sample (the arguments of
-// observability()):
+// observability()), laid out by the variant's row of kEstimators (measured_axes, keys, modal,
+// per_tooth):
 //  - modal variants: the deflection states (x, xdot for ekf-modal-x; all four otherwise), then
 //    the run's final m, c, k among those it estimates; the whole cutting force with the
 //    identified coefficients known; held m, c, k the identified ones;
