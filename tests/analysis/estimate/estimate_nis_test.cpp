@@ -8,6 +8,7 @@
 
 #include "analysis/estimate/ekf.h"
 #include "analysis/estimate/ekf_variants.h"
+#include "tests/support/estimators_run.h"
 #include "tests/support/record_property.h"
 #include "tests/support/synthetic_cuts.h"
 
@@ -15,15 +16,7 @@ namespace chatterlab {
 namespace estimate {
 namespace {
 
-const MeasuredCut& short_cut() {
-  static const MeasuredCut cut = [] {
-    chatterlab::testing::SyntheticCutSpec spec;
-    spec.record_s = 0.01;
-    spec.settle_revolutions = 5;
-    return chatterlab::testing::synthetic_cut(spec);
-  }();
-  return cut;
-}
+using chatterlab::testing::estimators_short_cut;
 
 TEST(EkfNis, CoeffXyMatchesAnIndependentRecomputation) {
   // The filter of ekf-coeff-xy rebuilt from its documented tuning (ekf_options.h defaults) and
@@ -34,7 +27,7 @@ TEST(EkfNis, CoeffXyMatchesAnIndependentRecomputation) {
   // 4.3e-11 at 1e6, mpmath, growing as dof^-1.5). Tolerances: the mean to 1e-9 relative (the
   // same numbers summed in the same order; LDL^T vs an explicit inverse differ in the last
   // bits), the band to 1e-7.
-  const MeasuredCut& cut = short_cut();
+  const MeasuredCut& cut = estimators_short_cut();
   const CutSetup setup;
   const CoeffEkfOptions o;
   const ModalParameters modal = chatterlab::testing::table52_modal();
@@ -93,21 +86,10 @@ TEST(EkfNis, CoeffXyMatchesAnIndependentRecomputation) {
 TEST(EkfNis, EveryVariantCountsItsUpdates) {
   // One update per step and filter, of as many rows as measured axes; per tooth the pooled
   // summary adds the filters' (each of which has its own).
-  const MeasuredCut& cut = short_cut();
+  const MeasuredCut& cut = estimators_short_cut();
   const CutSetup setup;
   for (EstimatorId id : all_estimators()) {
-    EkfResult r;
-    if (is_modal(id)) {
-      r = ekf_modal(id, cut, setup,
-                    {chatterlab::testing::table52_coefficients(),
-                     chatterlab::testing::dissertation_start_modal()});
-    } else {
-      r = ekf_coeff(
-          id, cut, setup,
-          {chatterlab::testing::table52_modal(),
-           id == EstimatorId::kCoeffXy ? std::vector<ToothCoefficients>{{2e9, 1e9}}
-                                       : chatterlab::testing::dissertation_start_coefficients()});
-    }
+    const EkfResult r = chatterlab::testing::run_estimator(id, cut, setup);
     ASSERT_TRUE(r.summary.ok()) << estimator_name(id) << ": " << r.summary.message;
     chatterlab::testing::record_and_print(std::string(estimator_name(id)) + "_mean_nis",
                                           r.nis.mean);

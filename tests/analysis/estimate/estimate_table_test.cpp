@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "analysis/estimate/ekf_variants.h"
-#include "tests/support/synthetic_cuts.h"
+#include "tests/support/estimators_run.h"
 
 namespace chatterlab {
 namespace estimate {
@@ -54,24 +54,10 @@ TEST(EstimatorTable, EstimateKeys) {
 TEST(EstimatorTable, KeysAreWhatEachVariantReports) {
   // Every variant on a short cut (0.01 s): its EkfResult::estimates carry exactly the table's
   // keys, in order, and its history the deflection states then those keys.
-  chatterlab::testing::SyntheticCutSpec spec;
-  spec.record_s = 0.01;
-  spec.settle_revolutions = 5;
-  const MeasuredCut cut = chatterlab::testing::synthetic_cut(spec);
+  const MeasuredCut& cut = chatterlab::testing::estimators_short_cut();
   const CutSetup setup;
   for (EstimatorId id : all_estimators()) {
-    EkfResult r;
-    if (is_modal(id)) {
-      r = ekf_modal(id, cut, setup,
-                    {chatterlab::testing::table52_coefficients(),
-                     chatterlab::testing::dissertation_start_modal()});
-    } else if (id == EstimatorId::kCoeffXy) {
-      r = ekf_coeff(id, cut, setup, {chatterlab::testing::table52_modal(), {{2e9, 1e9}}});
-    } else {
-      r = ekf_coeff(id, cut, setup,
-                    {chatterlab::testing::table52_modal(),
-                     chatterlab::testing::dissertation_start_coefficients()});
-    }
+    const EkfResult r = chatterlab::testing::run_estimator(id, cut, setup);
     ASSERT_TRUE(r.summary.ok()) << estimator_name(id) << ": " << r.summary.message;
     const std::vector<std::string> keys = estimate_keys(id, setup.teeth);
     ASSERT_EQ(r.estimates.size(), keys.size()) << estimator_name(id);
