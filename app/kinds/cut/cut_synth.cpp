@@ -150,9 +150,8 @@ int write_cut_tests(const CutSynthSpec& s, SynthContext& ctx) {
   o.steps_per_tooth = sync::sampled_steps_per_tooth(P, teeth);
 
   int written = 0;
-  std::uint64_t test_seed = ctx.seed;
-  for (const auto& c : s.tests) {
-    test_seed += 104729;
+  for (std::size_t i = 0; i < s.tests.size(); ++i) {
+    const CutTestSynth& c = s.tests[i];
     const bool ramp = c.depth_start_m != c.depth_end_m;
     o.depth =
         ramp ? milling::DepthProfile::ramp(c.depth_start_m, c.depth_end_m, *c.revolutions_per_mm)
@@ -163,7 +162,7 @@ int write_cut_tests(const CutSynthSpec& s, SynthContext& ctx) {
     if (c.offset_angle_deg) {
       offset_deg = *c.offset_angle_deg;
     } else {
-      std::mt19937_64 draw(test_seed ^ 0x9e3779b97f4a7c15ULL);
+      std::mt19937_64 draw(ctx.stream_seed("synth.cut.offset_angle", i));
       offset_deg = 360.0 * static_cast<double>(draw() >> 11) * 0x1.0p-53;
     }
     sync::CutRecordSpec r;
@@ -177,7 +176,7 @@ int write_cut_tests(const CutSynthSpec& s, SynthContext& ctx) {
     r.contour.eccentricity_m = s.runout_m;
     r.contour.eccentricity_angle_rad = s.runout_angle_deg * kDegToRad;
     r.contour.harmonic_m = s.out_of_round_m;  // phases drawn from the test's seed
-    r.seed = test_seed;
+    r.seed = ctx.stream_seed("synth.cut", i);
     const sync::CutRecord rec = sync::synthesize_cut_record(r);
     if (!rec.summary.ok()) {
       throw InputError("synth: cut test '" + c.name + "': " + rec.summary.message);

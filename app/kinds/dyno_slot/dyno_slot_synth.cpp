@@ -59,7 +59,7 @@ int write_dyno_tests(const DynoSynthSpec& d, SynthContext& ctx) {
     s.zero_noise_std_V = 0.02;
     s.fs_hz = d.fs;
     s.duration_s = d.duration_s;
-    s.seed = ctx.seed + 101 * (i + 1);
+    s.seed = ctx.stream_seed("synth.dyno", i);
     cutting::SlotRecord rec = cutting::generate_slot_record(s);
     // Written in volts: the test's channel scale (1 / sensitivity) calibrates them back to N.
     const Eigen::VectorXd fx_V = rec.Fx_N * d.sensitivity;

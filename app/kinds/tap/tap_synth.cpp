@@ -65,9 +65,9 @@ TapSynthSpec read_tap_synth(const YAML::Node& n, YamlReader& r) {
 
 int write_tap_tests(const TapSynthSpec& s, SynthContext& ctx) {
   int written = 0;
-  std::uint64_t axis_seed = ctx.seed;
   for (const auto& [axis, a] : s.axes) {
-    axis_seed += 7919;
+    // One stream per axis (x: 0, y: 1), the same whether or not the other axis is written.
+    const std::uint64_t axis_seed = ctx.stream_seed("synth.tap", axis == "x" ? 0 : 1);
     std::mt19937_64 rng(axis_seed);
     std::uniform_real_distribution<double> jitter(-0.05, 0.05), gain(0.85, 1.15);
     std::vector<frf::HammerPulse> pulses;
