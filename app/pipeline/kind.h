@@ -12,6 +12,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -102,6 +103,11 @@ class TestKind {
 
   // results.json: keys merged into the test's entry (only for a test whose step succeeded).
   virtual nlohmann::json results(const TestOutcome&) const { return nlohmann::json::object(); }
+  // Files of a test whose step succeeded, written beside results.json (a filter's trajectory,
+  // a reconstructed force): under `report_dir / <test id>/`, each named in results() by its
+  // path relative to report_dir (EXPERIMENT_FORMAT sections 4-7). Called by `report` before
+  // results.json is written; an exception is reported as a warning naming the test.
+  virtual void write_files(const TestOutcome&, const std::filesystem::path& /*report_dir*/) const {}
   // Keys at the top level of results.json (the cut kind's `identified`), from every test.
   virtual void campaign_results(const CampaignResults&, nlohmann::json&) const {}
   // The settings this kind's steps used, for results.json `settings` and the report.

@@ -111,6 +111,17 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
 
   std::filesystem::create_directories(out / "figures");
   const FigureSet figures = draw_figures(r, out, options.jobs);
+  // Files the tests write beside results.json, which names them.
+  std::vector<std::string> file_errors;
+  for (const auto& t : r.tests) {
+    const TestKind* kind = r.kinds->find(t.spec->kind);
+    if (!t.status.ok() || kind == nullptr) continue;
+    try {
+      kind->write_files(t, out);
+    } catch (const std::exception& e) {
+      file_errors.push_back(t.spec->id + ": " + e.what());
+    }
+  }
 
   json ctx;
   const auto& c = r.campaign;
@@ -134,6 +145,7 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
   }
   warnings.insert(warnings.end(), truth.warnings.begin(), truth.warnings.end());
   warnings.insert(warnings.end(), figures.errors.begin(), figures.errors.end());
+  warnings.insert(warnings.end(), file_errors.begin(), file_errors.end());
   int ok = 0;
   for (const auto& t : r.tests) {
     const std::string id = t.spec->id.empty() ? "." : t.spec->id;
