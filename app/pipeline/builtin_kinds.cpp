@@ -1,6 +1,7 @@
 // The built-in kinds: adding a kind adds one line here (docs/adding-a-kind.md).
 #include "app/kinds/cut/cut_kind.h"
 #include "app/kinds/dyno_slot/dyno_slot_kind.h"
+#include "app/kinds/grinding/grinding_kind.h"
 #include "app/kinds/tap/tap_kind.h"
 #include "app/pipeline/registry.h"
 
@@ -11,6 +12,7 @@ void register_builtin_kinds(KindRegistry& r) {
   r.add(std::make_unique<DynoSlotKind>());
   r.add(std::make_unique<DynoSlotGroup>());
   r.add(std::make_unique<CutKind>());
+  r.add(std::make_unique<GrindingKind>());
 }
 
 }  // namespace chatterlab::app
