@@ -16,28 +16,29 @@ double wear_constant(const GrindingParameters& p) {
 }
 
 ProcessState process_derivative(const ProcessState& X, double u_mm_s, const GrindingParameters& p,
-                                Eigen::Matrix<double, 4, 4>* J) {
+                                double wear_k, Eigen::Matrix<double, 4, 4>* J) {
   const double x2 = X[kV];
   const double x2p = std::max(x2, 0.0);
-  const double k = wear_constant(p);
+  const double x2p_g = x2 > 0.0 ? std::pow(x2p, p.g) : 0.0;  // x2+^g, once
   ProcessState F;
-  F[kVw] = kPi * p.dw_mm * x2;             // eq. 2
-  F[kV] = (u_mm_s - x2) / p.tau_s;         // eq. 1
-  F[kDs] = -k * std::pow(x2p, 1.0 + p.g);  // eq. 3
-  F[kR0] = 0.0;                            // a parameter
+  F[kVw] = kPi * p.dw_mm * x2;      // eq. 2
+  F[kV] = (u_mm_s - x2) / p.tau_s;  // eq. 1
+  F[kDs] = -wear_k * x2p_g * x2p;   // eq. 3: -k x2+^(1+g)
+  F[kR0] = 0.0;                     // a parameter
   if (J != nullptr) {
     J->setZero();
     (*J)(kVw, kV) = kPi * p.dw_mm;
     (*J)(kV, kV) = -1.0 / p.tau_s;
-    (*J)(kDs, kV) = x2 > 0.0 ? -k * (1.0 + p.g) * std::pow(x2p, p.g) : 0.0;
+    (*J)(kDs, kV) = -wear_k * (1.0 + p.g) * x2p_g;
   }
   return F;
 }
 
 ProcessState euler_step(const ProcessState& X, double u_mm_s, double T_f_s,
-                        const GrindingParameters& p, Eigen::Matrix<double, 4, 4>* A) {
+                        const GrindingParameters& p, double wear_k,
+                        Eigen::Matrix<double, 4, 4>* A) {
   Eigen::Matrix<double, 4, 4> J;
-  const ProcessState F = process_derivative(X, u_mm_s, p, A != nullptr ? &J : nullptr);
+  const ProcessState F = process_derivative(X, u_mm_s, p, wear_k, A != nullptr ? &J : nullptr);
   if (A != nullptr) *A = Eigen::Matrix<double, 4, 4>::Identity() + T_f_s * J;
   return X + T_f_s * F;  // 002 eq. 8
 }
@@ -48,8 +49,10 @@ Outputs outputs(const ProcessState& X, const GrindingParameters& p,
   const double x2 = X[kV];
   const double R0 = X[kR0];
   const double x1p = std::max(x1, 0.0);
-  const double x1d = std::pow(x1p, p.delta);
-  const double dx1d = x1 > 0.0 ? p.delta * std::pow(x1p, p.delta - 1.0) : 0.0;
+  // x1+^delta and its derivative (delta = 1, 002 table II: no pow).
+  const bool linear = p.delta == 1.0;
+  const double x1d = linear ? x1p : std::pow(x1p, p.delta);
+  const double dx1d = x1 > 0.0 ? (linear ? 1.0 : p.delta * std::pow(x1p, p.delta - 1.0)) : 0.0;
   const double specific = p.Ks_W_s_mm * (p.s0 + p.s1_per_mm2 * x1d);
   const double h_um = kPi * p.dw_mm * std::max(x2, kMinInfeedForRoughness_mm_s) / p.vs_m_s;
   const double h_gamma = std::pow(h_um, p.gamma);

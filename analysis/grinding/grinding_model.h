@@ -61,13 +61,24 @@ using ProcessState = Eigen::Matrix<double, 4, 1>;
 enum StateIndex : int { kVw = 0, kV = 1, kDs = 2, kR0 = 3 };
 
 // F(X, u) of eqs 1-3 (R0 constant: its derivative is 0), and its Jacobian dF/dX when `J` is
-// not null (row kR0 zero).
+// not null (row kR0 zero). `wear_k` = wear_constant(p) (a filter computes it once).
 ProcessState process_derivative(const ProcessState& X, double u_mm_s, const GrindingParameters& p,
-                                Eigen::Matrix<double, 4, 4>* J = nullptr);
+                                double wear_k, Eigen::Matrix<double, 4, 4>* J = nullptr);
+inline ProcessState process_derivative(const ProcessState& X, double u_mm_s,
+                                       const GrindingParameters& p,
+                                       Eigen::Matrix<double, 4, 4>* J = nullptr) {
+  return process_derivative(X, u_mm_s, p, wear_constant(p), J);
+}
 
 // One fast step of eq. 8: X + T_f F(X, u); A = I + T_f dF/dX when `A` is not null.
 ProcessState euler_step(const ProcessState& X, double u_mm_s, double T_f_s,
-                        const GrindingParameters& p, Eigen::Matrix<double, 4, 4>* A = nullptr);
+                        const GrindingParameters& p, double wear_k,
+                        Eigen::Matrix<double, 4, 4>* A = nullptr);
+inline ProcessState euler_step(const ProcessState& X, double u_mm_s, double T_f_s,
+                               const GrindingParameters& p,
+                               Eigen::Matrix<double, 4, 4>* A = nullptr) {
+  return euler_step(X, u_mm_s, T_f_s, p, wear_constant(p), A);
+}
 
 // The measured outputs, in the order of the filters' measurement vector.
 enum OutputIndex : int { kPower = 0, kDw = 1, kDsOut = 2, kRa = 3 };

@@ -28,6 +28,7 @@ struct FilterModel {
   using Input = double;  // u of row j - 1, mm/s
 
   const GrindingParameters* p = nullptr;
+  double wear_k = 0.0;  // wear_constant(*p), once
   double T_f_s = 0.02;
   State q = State::Zero();  // Q: diagonal, added once per fast step (format section 7)
   kalman::Matrix<kMeasurements, kMeasurements> R =
@@ -43,7 +44,8 @@ struct FilterModel {
   // 002 eq. 8 and A = I + T_f dF/dX of eq. 14.
   State propagate(const State& x, const Input& u, kalman::Matrix<N, N>* F) const {
     Eigen::Matrix4d A;
-    const ProcessState next = euler_step(full(x), u, T_f_s, *p, F != nullptr ? &A : nullptr);
+    const ProcessState next =
+        euler_step(full(x), u, T_f_s, *p, wear_k, F != nullptr ? &A : nullptr);
     if (F != nullptr) *F = A.template topLeftCorner<N, N>();
     return next.template head<N>();
   }
@@ -136,6 +138,7 @@ class SeriesFilter {
   static Model model(const GrindingParameters& p, const GrindingFilterSettings& s) {
     Model m;
     m.p = &p;
+    m.wear_k = wear_constant(p);
     m.T_f_s = s.sample_period_s;
     for (int i = 0; i < N; ++i) m.q[i] = s.Q[static_cast<std::size_t>(i)];
     m.R.setZero();
