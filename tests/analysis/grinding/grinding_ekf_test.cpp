@@ -15,6 +15,7 @@
 #include "analysis/grinding/grinding_synth.h"
 #include "analysis/grinding/multirate_ekf.h"
 #include "analysis/kalman/chi_square.h"
+#include "tests/support/record_property.h"
 
 namespace chatterlab {
 namespace grinding {
@@ -134,6 +135,7 @@ TEST(GrindingEkf, WheelDiameterInspectionRemovesTheInProcessOffset) {
     EXPECT_LT(err_in, -kInProcessOffsetMin_mm) << "seed " << seed;
     inside += std::abs(err_x) < inspected.per_cycle[9].posterior.three_sigma[kDs] ? 1 : 0;
   }
+  chatterlab::testing::record_and_print("inspected_ds_rms_um", std::sqrt(sq / 100) * 1e3);
   EXPECT_GE(inside, kInside3SigmaMin);
   EXPECT_LT(std::sqrt(sq / 100), kInspectedRms_mm);
 }
