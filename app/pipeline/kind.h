@@ -80,6 +80,10 @@ class TestKind {
   virtual std::vector<std::string> check_campaign(const CampaignSpec&, const TestSpec&) const {
     return {};
   }
+  // Files the test reads beside campaign.yaml, its test.yaml and its data file (an inspections
+  // table a key names), hashed into results.json `inputs_sha256`: paths inside the campaign
+  // (check_campaign() has checked them); a missing one is left out.
+  virtual std::vector<std::filesystem::path> input_files(const TestSpec&) const { return {}; }
   // Channels the record must hold.
   virtual std::vector<std::string> required_channels(const TestSpec&) const = 0;
   // Checks of the record against the test.yaml once its length is known (a window inside it).

@@ -140,6 +140,9 @@ void add_inputs(CampaignResults& r) {
   for (const auto& t : r.campaign.tests) {
     add_input(t.folder / "test.yaml");
     if (!t.data.file.empty()) add_input(t.data.file);
+    if (const TestKind* kind = r.kinds->find(t.kind); kind != nullptr && t.usable()) {
+      for (const auto& f : kind->input_files(t)) add_input(f);
+    }
   }
 }
 

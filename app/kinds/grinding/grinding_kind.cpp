@@ -339,6 +339,12 @@ std::shared_ptr<const KindSpec> GrindingKind::parse(const YAML::Node& root, Yaml
   return spec;
 }
 
+std::vector<std::filesystem::path> GrindingKind::input_files(const TestSpec& t) const {
+  const auto* s = dynamic_cast<const GrindingSpec*>(t.params.get());
+  if (!s || s->inspections_file.empty()) return {};
+  return {inspections_path(t, *s)};
+}
+
 std::vector<std::string> GrindingKind::check_campaign(const CampaignSpec& c,
                                                       const TestSpec& t) const {
   const auto* s = dynamic_cast<const GrindingSpec*>(t.params.get());

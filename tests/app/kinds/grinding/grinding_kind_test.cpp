@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -289,6 +290,11 @@ TEST(GrindingKind, HandWrittenCampaignRuns) {
   EXPECT_LT(ds[2].get<double>(), ds[1].get<double>() - 0.009);
   const json h1 = kind.results(r.tests[1])["estimators"]["multirate-ekf-x"];
   EXPECT_EQ(h1["replayed_steps_count"], 0);
+  // The inspections files are inputs (results.json inputs_sha256): a change to one shows.
+  std::set<std::string> inputs;
+  for (const auto& f : r.inputs) inputs.insert(f.relative_path);
+  EXPECT_TRUE(inputs.count("g/inspections.csv")) << "g/inspections.csv";
+  EXPECT_TRUE(inputs.count("h/inspections.csv")) << "h/inspections.csv";
 }
 
 TEST(GrindingKind, WriteFilesWritesOneRowPerInstant) {
