@@ -103,6 +103,9 @@ class SeriesFilter {
     prior_end_x_.resize(cycles_.size());
     prior_end_P_.resize(cycles_.size());
     counted_.assign(cycles_.size(), false);
+    inspection_nis_.assign(cycles_.size(), kalman::Innovation{});
+    fast_nis_sum_.assign(cycles_.size(), 0.0);
+    fast_nis_dof_.assign(cycles_.size(), 0);
   }
 
   void run() {
@@ -131,6 +134,15 @@ class SeriesFilter {
       out_.trajectory.push_back(e.posterior);
       out_.per_cycle.push_back(e);
       ++out_.steps;
+    }
+    for (std::size_t c = 0; c < cycles_.size(); ++c) {  // late inspections' NIS known now
+      CycleEstimate& e = out_.per_cycle[c];
+      e.nis_fast_dof = fast_nis_dof_[c];
+      if (fast_nis_dof_[c] > 0) e.nis_fast_per_dof = fast_nis_sum_[c] / fast_nis_dof_[c];
+      e.nis_inspection_dof = inspection_nis_[c].dimension;
+      if (inspection_nis_[c].dimension > 0) {
+        e.nis_inspection_per_dof = inspection_nis_[c].nis / inspection_nis_[c].dimension;
+      }
     }
   }
 
@@ -194,8 +206,7 @@ class SeriesFilter {
       if (j == cy.n) break;
       const kalman::Innovation in = filter_.update(fast_measurement(row), fast);
       if (live) {
-        out_.nis_fast_sum += in.nis;
-        out_.nis_fast_dof += in.dimension;
+        count_fast(c, in);
         out_.trajectory.push_back(estimate(cy.cycle, j));
         ++out_.steps;
       } else {
@@ -204,6 +215,13 @@ class SeriesFilter {
     }
     prior_end_x_[c] = filter_.state();
     prior_end_P_[c] = filter_.covariance();
+  }
+
+  void count_fast(std::size_t c, const kalman::Innovation& in) {
+    out_.nis_fast_sum += in.nis;
+    out_.nis_fast_dof += in.dimension;
+    fast_nis_sum_[c] += in.nis;
+    fast_nis_dof_[c] += in.dimension;
   }
 
   // The inspection rows of cycle c usable by the end of cycle `usable_by` (a cycle number).
@@ -234,11 +252,11 @@ class SeriesFilter {
       if (!counted_[c]) {  // each update holding inspection values counted once
         out_.nis_end_sum += in.nis;
         out_.nis_end_dof += in.dimension;
+        inspection_nis_[c] = in;
         counted_[c] = true;
       }
     } else if (live) {
-      out_.nis_fast_sum += in.nis;
-      out_.nis_fast_dof += in.dimension;
+      count_fast(c, in);
     }
     return slow.any();
   }
@@ -300,6 +318,9 @@ class SeriesFilter {
   std::vector<State> prior_end_x_;
   std::vector<Cov> prior_end_P_;
   std::vector<bool> counted_;  // an update holding this cycle's inspection was counted
+  std::vector<kalman::Innovation> inspection_nis_;  // that update's NIS, per cycle
+  std::vector<double> fast_nis_sum_;                // live updates without inspections
+  std::vector<int> fast_nis_dof_;
 };
 
 }  // namespace

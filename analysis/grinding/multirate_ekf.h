@@ -111,6 +111,12 @@ struct CycleEstimate {
   double ds_prior_3sigma_mm = std::numeric_limits<double>::quiet_NaN();
   double Ra_pred_um = std::numeric_limits<double>::quiet_NaN();
   bool inspected = false;  // an inspection value joined an update at this cycle's end
+  // Innovation diagnostics: the mean NIS per degree of freedom of the cycle's updates without
+  // inspection values (as they happened), and the NIS per degree of freedom of the update
+  // holding this cycle's inspection values (when it ran, also for a late one; NaN: none).
+  double nis_fast_per_dof = std::numeric_limits<double>::quiet_NaN();
+  double nis_inspection_per_dof = std::numeric_limits<double>::quiet_NaN();
+  int nis_fast_dof = 0, nis_inspection_dof = 0;
   // The a posteriori covariance at (i, n_i) (the leading states x states block is used).
   Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();
 };

@@ -548,7 +548,10 @@ json estimator_json(const std::string& test_id, const GrindingResult& res,
   json cycle = json::array();
   std::vector<json> value(states, json::array()), sigma(states, json::array());
   json prior = json::array(), prior_sigma = json::array(), ra = json::array();
+  json nis_fast = json::array(), nis_insp = json::array();
   for (const auto& c : run.per_cycle) {
+    nis_fast.push_back(number_or_null(c.nis_fast_per_dof));
+    nis_insp.push_back(number_or_null(c.nis_inspection_per_dof));
     cycle.push_back(c.posterior.cycle);
     for (std::size_t k = 0; k < states; ++k) {
       value[k].push_back(number_or_null(c.posterior.x[static_cast<Eigen::Index>(k)]));
@@ -566,6 +569,11 @@ json estimator_json(const std::string& test_id, const GrindingResult& res,
   pc["ds_prior_mm"] = prior;
   pc["ds_prior_3sigma_mm"] = prior_sigma;
   if (info.estimates_R0) pc["Ra_pred_um"] = ra;
+  // Innovation diagnostics per cycle (beyond the contract): the mean NIS per degree of freedom
+  // of the updates without inspection values, and that of the update holding the cycle's
+  // inspection values (null: none).
+  pc["nis_fast_per_dof"] = nis_fast;
+  pc["nis_inspection_per_dof"] = nis_insp;
   j["per_cycle"] = pc;
   j["trajectory_csv"] = grinding_trajectory_path(test_id, info.name);
   j["nis_fast_per_dof"] = number_or_null(run.nis_fast_per_dof());

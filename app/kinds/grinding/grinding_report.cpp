@@ -4,6 +4,7 @@
 // (GrindingKind::results).
 #include <cmath>
 
+#include "analysis/kalman/chi_square.h"
 #include "app/core/format.h"
 #include "app/kinds/grinding/grinding_kind.h"
 #include "app/report/figure_jobs.h"
@@ -142,12 +143,70 @@ render::Figure grinding_r0_figure(const GrindingResult& res) {
   return fig;
 }
 
+// Innovations (NIS per degree of freedom) per cycle: the mean over the cycle's updates without
+// inspection values with the 95 % band of such a mean, and the update holding the cycle's
+// inspection values with the 95 % band of one chi-square of its dimension.
+render::Figure grinding_nis_figure(const GrindingResult& res) {
+  const std::vector<double> x = cycles_of(res);
+  render::Figure fig;
+  fig.share_x = true;
+  fig.height_in = 4.6;
+  render::Axes& a = fig.panels.emplace_back();
+  a.y_label = "NIS / dof, fast";
+  render::Axes& b = fig.panels.emplace_back();
+  b.x_label = "cycle";
+  b.y_label = "NIS / dof, inspection";
+  bool band_fast = false;
+  for (std::size_t k = 0; k < res.estimators.size(); ++k) {
+    const auto& run = res.estimators[k].run;
+    if (!run.summary.ok()) continue;
+    const std::string name = g::kGrindingEstimators[k].name;
+    std::vector<double> f, ix, iv, lo, hi, bx;
+    for (const auto& c : run.per_cycle) {
+      f.push_back(c.nis_fast_per_dof);
+      if (c.nis_inspection_dof > 0) {
+        ix.push_back(c.posterior.cycle);
+        iv.push_back(c.nis_inspection_per_dof);
+      }
+    }
+    fig.panels[0].series.emplace_back(x, f, name, render::SeriesStyle::kLinePoints, kColours[k]);
+    if (!ix.empty()) {
+      fig.panels[1].series.emplace_back(ix, iv, name, render::SeriesStyle::kPoints, kColours[k]);
+    }
+    if (!band_fast) {  // the fast updates have the same dimension for every id
+      for (const auto& c : run.per_cycle) {
+        if (c.nis_fast_dof <= 0) continue;
+        const auto band = kalman::mean_chi_square_band(c.nis_fast_dof, 1);
+        bx.push_back(c.posterior.cycle);
+        lo.push_back(band.lower);
+        hi.push_back(band.upper);
+      }
+      fig.panels[0].series.emplace_back(bx, lo, "95 % band", render::SeriesStyle::kDashedLine,
+                                        "#000000");
+      fig.panels[0].series.emplace_back(bx, hi, "", render::SeriesStyle::kDashedLine, "#000000");
+      band_fast = true;
+    }
+  }
+  // One chi-square per update: the band of the largest update (P, D_w, d_s, R_a) and of the
+  // smallest (P, D_w, d_s) bracket every point's own band.
+  for (int dof : {3, 4}) {
+    const auto band = kalman::chi_square_band(dof);
+    const std::vector<double> lo(x.size(), band.lower / dof), hi(x.size(), band.upper / dof);
+    const std::string label = "95 % band, " + std::to_string(dof) + " dof";
+    const std::string colour = dof == 3 ? "#555555" : "#999999";
+    fig.panels[1].series.emplace_back(x, lo, label, render::SeriesStyle::kDashedLine, colour);
+    fig.panels[1].series.emplace_back(x, hi, "", render::SeriesStyle::kDashedLine, colour);
+  }
+  return fig;
+}
+
 void GrindingKind::figures(const CampaignResults&, const TestOutcome& out, FigureJobs& jobs) const {
   const GrindingResult& res = out.result_of<GrindingResult>();
   if (res.cycles < 1) return;
   const std::string stem = figure_stem("grinding", out.spec->id);
   jobs.add(out.spec->id, "ds", stem + "ds", grinding_ds_figure(res));
   jobs.add(out.spec->id, "r0", stem + "r0", grinding_r0_figure(res));
+  jobs.add(out.spec->id, "nis", stem + "nis", grinding_nis_figure(res));
 }
 
 json GrindingKind::report_section(const CampaignResults&, const std::vector<const TestOutcome*>& ok,
@@ -227,6 +286,7 @@ json GrindingKind::report_section(const CampaignResults&, const std::vector<cons
     j["estimators"] = rows;
     j["ds_figure"] = figures.of(t->spec->id, "ds");
     j["r0_figure"] = figures.of(t->spec->id, "r0");
+    j["nis_figure"] = figures.of(t->spec->id, "nis");
     j["has_warnings"] = !t->warnings.empty();
     j["warnings"] = t->warnings;
     tests.push_back(j);

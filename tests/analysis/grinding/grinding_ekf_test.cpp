@@ -93,6 +93,23 @@ TEST(GrindingEkf, LateInspectionIsAppliedAtItsCycleEndWhenItArrives) {
     ASSERT_EQ(b.trajectory.size(), c.trajectory.size());
     expect_same(b.trajectory[3 * 851 + 400], c.trajectory[3 * 851 + 400], "row (4, 400)");
     EXPECT_EQ(b.steps, 7 * 851);
+    // Per-cycle NIS adds up to the run's; the late inspection's NIS is its own cycle's, from
+    // the update at its replay.
+    double fast = 0.0, insp = 0.0;
+    int fast_dof = 0, insp_dof = 0;
+    for (const auto& pc : b.per_cycle) {
+      fast += pc.nis_fast_per_dof * pc.nis_fast_dof;
+      fast_dof += pc.nis_fast_dof;
+      if (pc.nis_inspection_dof > 0) {
+        insp += pc.nis_inspection_per_dof * pc.nis_inspection_dof;
+        insp_dof += pc.nis_inspection_dof;
+      }
+    }
+    EXPECT_NEAR(fast, b.nis_fast_sum, 1e-9 * b.nis_fast_sum);
+    EXPECT_EQ(fast_dof, b.nis_fast_dof);
+    EXPECT_NEAR(insp, b.nis_end_sum, 1e-9 * std::max(1.0, b.nis_end_sum));
+    EXPECT_EQ(insp_dof, b.nis_end_dof);
+    EXPECT_EQ(b.per_cycle[2].nis_inspection_dof > 0, e.uses_ds);
     if (e.uses_ds) {
       // Cycles 4 and 5 again: the fast updates j = 0..849 of each.
       EXPECT_EQ(b.replayed_steps, 2 * 850);
