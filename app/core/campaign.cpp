@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <set>
 
+#include "app/core/signals.h"
 #include "app/core/yaml_reader.h"
 #include "app/pipeline/registry.h"
 
@@ -29,6 +31,72 @@ YAML::Node load_yaml(const fs::path& file, const std::string& label,
   }
 }
 
+// channels.<name>.column: a header text, or a 0-based index written as a plain integer.
+std::optional<ColumnRef> read_column(const YAML::Node& n, YamlReader& r, const std::string& key) {
+  if (!n) return std::nullopt;
+  const std::string what = "must be the header text of a column or its 0-based index";
+  if (!n.IsScalar() || n.Scalar().empty()) {
+    r.error(key, what);
+    return std::nullopt;
+  }
+  const std::string& text = n.Scalar();
+  ColumnRef c;
+  if (n.Tag() == "!") {  // quoted: always header text
+    c.header = text;
+    return c;
+  }
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (end && *end == '\0') {  // a number: an index
+    if (!(v >= 0) || v != std::floor(v) || v > 1e6) {
+      r.error(key, what + ", got '" + text + "'");
+      return std::nullopt;
+    }
+    c.index = static_cast<int>(v);
+    return c;
+  }
+  c.header = text;
+  return c;
+}
+
+// data.delimiter, data.decimal and data.skip_lines (delimited text files only).
+void read_dialect(const YAML::Node& data, YamlReader& r, DataSpec& d, bool text) {
+  if (const auto s = r.optional_string(data, "delimiter", "data")) {
+    if (*s == "," || *s == ";") {
+      d.delimiter = (*s)[0];
+    } else if (*s == "\t" || *s == "tab" || *s == "\\t") {
+      d.delimiter = '\t';
+    } else {
+      r.error("data.delimiter", "must be \",\", \";\" or tab, got '" + *s + "'");
+    }
+  }
+  if (const auto s = r.optional_string(data, "decimal", "data")) {
+    if (*s == "." || *s == ",") {
+      d.decimal = (*s)[0];
+    } else {
+      r.error("data.decimal", "must be \".\" or \",\", got '" + *s + "'");
+    }
+  }
+  if (d.delimiter == ',' && d.decimal == ',') {
+    r.error("data.decimal",
+            "\",\" needs data.delimiter \";\" or tab (the cells are split at \",\")");
+  }
+  if (const auto n = r.optional_double(data, "skip_lines", "data")) {
+    if (!(*n >= 0) || *n != std::floor(*n) || *n > 1e6) {
+      r.error("data.skip_lines", "must be a whole number >= 0 (lines before the header row)");
+    } else {
+      d.skip_lines = static_cast<int>(*n);
+    }
+  }
+  if (!text) {
+    for (const char* k : {"delimiter", "decimal", "skip_lines"}) {
+      if (data[k])
+        r.warn(std::string("data.") + k,
+               "applies to text files and is ignored for a raw binary file");
+    }
+  }
+}
+
 void read_channels(const YAML::Node& root, YamlReader& r, TestSpec& t) {
   const YAML::Node ch = root["channels"];
   if (!ch) return;
@@ -44,10 +112,11 @@ void read_channels(const YAML::Node& root, YamlReader& r, TestSpec& t) {
       r.error(path, "must be a mapping such as {scale: 1.0, offset: 0.0}");
       continue;
     }
-    r.check_keys(kv.second, {"scale", "offset", "threshold"}, path);
+    r.check_keys(kv.second, {"scale", "offset", "threshold", "column"}, path);
     c.scale = r.optional_double(kv.second, "scale", path).value_or(1.0);
     c.offset = r.optional_double(kv.second, "offset", path).value_or(0.0);
     c.threshold = r.optional_double(kv.second, "threshold", path);
+    c.column = read_column(kv.second["column"], r, path + ".column");
     t.channels[name] = c;
   }
 }
@@ -91,17 +160,20 @@ TestSpec load_test(const fs::path& campaign_root, const fs::path& test_yaml,
   } else if (!data.IsMap()) {
     r.error("data", "must be a mapping such as {file: signals.f32, channels: [x, y, tach]}");
   } else {
-    r.check_keys(data, {"file", "channels"}, "data");
+    r.check_keys(data, {"file", "channels", "delimiter", "decimal", "skip_lines"}, "data");
     t.data.relative_file = r.required_string(data, "file", "data");
     if (!t.data.relative_file.empty()) t.data.file = t.folder / t.data.relative_file;
     t.data.channels = r.string_list(data, "channels", false, "data");
     const auto ext = t.data.file.extension().string();
+    const bool raw = ext == ".f32" || ext == ".f64";
+    read_dialect(data, r, t.data, !raw);
     if (!t.data.relative_file.empty()) {
-      if (ext == ".f32" || ext == ".f64") {
+      if (raw) {
         if (t.data.channels.empty()) r.error("data.channels", "is required for a raw binary file");
-      } else if (ext != ".csv") {
+      } else if (!is_text_signal_file(t.data.file)) {
         r.error("data.file", "'" + t.data.relative_file +
-                                 "': unsupported signal format (use .csv, .f32 or .f64)");
+                                 "': unsupported signal format (use text .csv, .txt, .tsv, .lvm or "
+                                 "raw .f32, .f64)");
       }
       if (!fs::exists(t.data.file)) {
         r.error("data.file", "'" + t.data.relative_file + "': file not found");

@@ -21,16 +21,29 @@ struct ToolSpec {
   std::optional<double> helix_deg;
 };
 
+// The column that feeds a channel (test.yaml `channels.<name>.column`): the header text of a
+// column, or its 0-based index (counting every column, a time column too).
+struct ColumnRef {
+  std::string header;  // used when index < 0
+  int index = -1;
+  bool by_index() const { return index >= 0; }
+};
+
 struct ChannelSpec {
   double scale = 1.0;  // physical = scale * raw + offset
   double offset = 0.0;
   std::optional<double> threshold;  // pulse channels (tach, zero): rising-edge threshold
+  std::optional<ColumnRef> column;  // absent: the column whose header is the channel's name
 };
 
 struct DataSpec {
   fs::path file;                      // absolute path
   std::string relative_file;          // as written in test.yaml
   std::vector<std::string> channels;  // required for raw binary files
+  // Delimited text (CSV) dialect, EXPERIMENT_FORMAT.md section 1.
+  char delimiter = 0;  // ',', ';' or '\t'; 0: detected from the header and the first rows
+  char decimal = '.';  // '.' or ','
+  int skip_lines = 0;  // lines before the header row
 };
 
 // A kind's own test.yaml keys, parsed (TapSpec, CutSpec, ...: each kind derives its own).

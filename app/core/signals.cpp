@@ -5,12 +5,18 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <optional>
+#include <set>
 
 #include "analysis/common/summary.h"
+#include "app/core/yaml_reader.h"
 
 namespace chatterlab::app {
 
@@ -71,7 +77,219 @@ std::string sample_where(std::size_t i, const std::string& channel) {
   return "channel '" + channel + "', sample " + std::to_string(i);
 }
 
+std::string lower(std::string s) {
+  for (auto& ch : s) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return s;
+}
+
+std::string joined(const std::vector<std::string>& names, const std::string& quote = "") {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "" : ", ") + quote + n + quote;
+  return out;
+}
+
+// ---- Delimited text dialects ----------------------------------------------------------------
+
+std::string_view without_cr(std::string_view line) {
+  if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+  return line;
+}
+
+bool blank(std::string_view line) {
+  return line.find_first_not_of(" \t\r") == std::string_view::npos;
+}
+
+std::size_t cells_in(std::string_view line, char delim) {
+  return static_cast<std::size_t>(std::count(line.begin(), line.end(), delim)) + 1;
+}
+
+// One cell as a number: blanks around it and a leading '+' allowed; with a decimal comma the
+// cell must not also hold a point (a thousands separator is not read).
+template <bool kDecimalComma>
+inline bool to_double(std::string_view s, double& v) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
+  if (s.empty()) return false;
+  if constexpr (kDecimalComma) {
+    char buf[64];
+    if (s.size() >= sizeof(buf)) return false;
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      if (s[i] == '.') return false;
+      buf[i] = s[i] == ',' ? '.' : s[i];
+    }
+    auto [ptr, err] = std::from_chars(buf, buf + s.size(), v);
+    return err == std::errc() && ptr == buf + s.size();
+  } else {
+    auto [ptr, err] = std::from_chars(s.data(), s.data() + s.size(), v);
+    return err == std::errc() && ptr == s.data() + s.size();
+  }
+}
+
+bool number_in(std::string_view s, char decimal) {
+  double v = 0;
+  return decimal == ',' ? to_double<true>(s, v) : to_double<false>(s, v);
+}
+
+// Cells of `line` split at `delim`, each a number in `decimal`.
+bool numeric_row(std::string_view line, char delim, char decimal, std::size_t* cells) {
+  std::size_t n = 0, pos = 0;
+  while (true) {
+    const std::size_t d = line.find(delim, pos);
+    const std::string_view cell =
+        line.substr(pos, d == std::string_view::npos ? std::string_view::npos : d - pos);
+    if (!number_in(cell, decimal)) return false;
+    ++n;
+    if (d == std::string_view::npos) break;
+    pos = d + 1;
+  }
+  *cells = n;
+  return true;
+}
+
+// A header row: some cell has a letter, and no cell reads as a number (either decimal mark).
+bool names_row(std::string_view line, char delim) {
+  bool letter = false;
+  std::size_t pos = 0;
+  while (true) {
+    const std::size_t d = line.find(delim, pos);
+    const std::string_view cell =
+        line.substr(pos, d == std::string_view::npos ? std::string_view::npos : d - pos);
+    if (number_in(cell, '.') || number_in(cell, ',')) return false;
+    for (const char ch : cell) letter = letter || std::isalpha(static_cast<unsigned char>(ch));
+    if (d == std::string_view::npos) break;
+    pos = d + 1;
+  }
+  return letter;
+}
+
+struct Dialect {
+  char delimiter = ',';
+  char decimal = '.';
+  int skip_lines = 0;
+  std::size_t columns = 0;
+};
+
+std::string delimiter_word(char d) { return d == '\t' ? "tab" : std::string("'") + d + "'"; }
+
+std::string delimiter_yaml(char d) { return d == '\t' ? "tab" : std::string("\"") + d + "\""; }
+
+// The first lines of `text` (at most 200 and 64 KiB), a partial last line dropped.
+std::vector<std::string_view> head_lines(std::string_view text) {
+  std::vector<std::string_view> lines;
+  std::size_t pos = 0;
+  const std::size_t limit = std::min<std::size_t>(text.size(), 64 * 1024);
+  while (pos < text.size() && lines.size() < 200) {
+    const std::size_t eol = text.find('\n', pos);
+    if (eol == std::string_view::npos) {
+      if (text.size() <= limit) lines.push_back(without_cr(text.substr(pos)));
+      break;
+    }
+    if (eol > limit) break;
+    lines.push_back(without_cr(text.substr(pos, eol - pos)));
+    pos = eol + 1;
+  }
+  return lines;
+}
+
+// The dialect a text file looks written in: for each delimiter and decimal mark, the first run
+// of (up to 8) numeric rows with one cell count of two or more, right after a header row of
+// that many cells, none a number and one with a letter. The most columns wins; ties go to the
+// earlier candidate below.
+std::optional<Dialect> sniff(const std::vector<std::string_view>& lines) {
+  static constexpr std::array<std::array<char, 2>, 5> kCandidates = {
+      {{',', '.'}, {';', '.'}, {'\t', '.'}, {';', ','}, {'\t', ','}}};
+  std::optional<Dialect> best;
+  for (const auto& [delim, decimal] : kCandidates) {
+    for (std::size_t k = 1; k < lines.size(); ++k) {
+      std::size_t n = 0;
+      if (blank(lines[k]) || !numeric_row(lines[k], delim, decimal, &n) || n < 2) continue;
+      bool run = true;
+      for (std::size_t j = k + 1, seen = 1; j < lines.size() && seen < 8 && run; ++j) {
+        if (blank(lines[j])) continue;
+        std::size_t m = 0;
+        run = numeric_row(lines[j], delim, decimal, &m) && m == n;
+        ++seen;
+      }
+      if (!run) continue;
+      std::size_t h = k - 1;
+      while (h > 0 && blank(lines[h])) --h;
+      if (blank(lines[h]) || cells_in(lines[h], delim) != n || !names_row(lines[h], delim)) {
+        break;  // the numeric rows start without a header: not this dialect's layout
+      }
+      if (!best || n > best->columns) best = Dialect{delim, decimal, static_cast<int>(h), n};
+      break;
+    }
+  }
+  return best;
+}
+
+// "; the file looks like ';'-separated with decimal comma: set data.delimiter: ";" and
+// data.decimal: ","", or "" when the file does not look like another dialect than `used`.
+std::string dialect_hint(std::string_view text, const Dialect& used) {
+  const auto d = sniff(head_lines(text));
+  if (!d || (d->delimiter == used.delimiter && d->decimal == used.decimal &&
+             d->skip_lines == used.skip_lines)) {
+    return "";
+  }
+  std::string what = delimiter_word(d->delimiter) + "-separated with decimal " +
+                     (d->decimal == ',' ? "comma" : "point");
+  if (d->skip_lines > 0) what += ", header on line " + std::to_string(d->skip_lines + 1);
+  std::vector<std::string> keys = {"data.delimiter: " + delimiter_yaml(d->delimiter)};
+  if (d->decimal != '.' || d->decimal != used.decimal) {
+    keys.push_back(std::string("data.decimal: \"") + d->decimal + "\"");
+  }
+  if (d->skip_lines != used.skip_lines) {
+    keys.push_back("data.skip_lines: " + std::to_string(d->skip_lines));
+  }
+  std::string set;
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    set += (i == 0 ? "" : i + 1 == keys.size() ? " and " : ", ") + keys[i];
+  }
+  return "; the file looks like " + what + ": set " + set;
+}
+
+// data.delimiter absent: the first of tab, ';', ',' that splits the header into two or more
+// cells and the next (up to 5) rows into as many; ',' (';' with a decimal comma) otherwise.
+char detect_delimiter(std::string_view header, std::string_view rest, char decimal) {
+  std::array<std::string_view, 5> rows{};
+  std::size_t nrows = 0, pos = 0;
+  while (nrows < rows.size() && pos < rest.size()) {
+    std::size_t eol = rest.find('\n', pos);
+    if (eol == std::string_view::npos) eol = rest.size();
+    const std::string_view line = without_cr(rest.substr(pos, eol - pos));
+    if (!blank(line)) rows[nrows++] = line;
+    pos = eol + 1;
+  }
+  for (const char d : {'\t', ';', ','}) {
+    if (d == ',' && decimal == ',') continue;
+    const std::size_t n = cells_in(header, d);
+    if (n < 2) continue;
+    bool same = true;
+    for (std::size_t i = 0; i < nrows && same; ++i) same = cells_in(rows[i], d) == n;
+    if (same) return d;
+  }
+  return decimal == ',' ? ';' : ',';
+}
+
+std::string header_without_unit(const std::string& header) {
+  std::string s = header;
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  if (!s.empty() && (s.back() == ')' || s.back() == ']')) {
+    const char open = s.back() == ')' ? '(' : '[';
+    const std::size_t o = s.rfind(open);
+    if (o != std::string::npos && o > 0) s.erase(o);
+  }
+  while (!s.empty() && (s.back() == ' ' || s.back() == '_')) s.pop_back();
+  return lower(s);
+}
+
 }  // namespace
+
+bool is_text_signal_file(const std::filesystem::path& file) {
+  const std::string ext = lower(file.extension().string());
+  return ext == ".csv" || ext == ".txt" || ext == ".tsv" || ext == ".lvm";
+}
 
 SignalTable::SignalTable(SignalTable&&) noexcept = default;
 SignalTable& SignalTable::operator=(SignalTable&&) noexcept = default;
@@ -105,82 +323,143 @@ SignalTable SignalTable::open(const DataSpec& data, const std::string& label) {
                          sample_where(i / nch, t.names_[i % nch]));
       }
     }
-  } else if (ext == ".csv") {
-    MappedFile f(data.file, label);
-    std::string_view text(f.data() ? f.data() : "", f.size());
-    std::size_t line_end = text.find('\n');
-    std::string_view header = text.substr(0, line_end);
-    std::size_t pos = 0;
-    while (true) {
-      const std::size_t comma = header.find(',', pos);
-      t.names_.push_back(trim(header.substr(pos, comma - pos)));
-      if (comma == std::string_view::npos) break;
-      pos = comma + 1;
-    }
-    if (t.names_.empty() || (t.names_.size() == 1 && t.names_[0].empty())) {
-      throw InputError(label + ": empty file (a header row of channel names is required)");
-    }
-    for (const auto& n : t.names_) {
-      char* endp = nullptr;
-      std::strtod(n.c_str(), &endp);
-      if (!n.empty() && endp && *endp == '\0') {
-        throw InputError(label + ": first row must be a header of channel names, got '" + n + "'");
-      }
-    }
-    const std::size_t nch = t.names_.size();
-    t.columns_.assign(nch, {});
-    for (auto& c : t.columns_) c.reserve(text.size() / (nch * 12) + 1);
-    std::size_t line_no = 1;
-    pos = line_end == std::string_view::npos ? text.size() : line_end + 1;
-    while (pos < text.size()) {
-      ++line_no;
-      std::size_t eol = text.find('\n', pos);
-      if (eol == std::string_view::npos) eol = text.size();
-      std::string_view line = text.substr(pos, eol - pos);
-      pos = eol + 1;
-      if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-      if (line.empty()) continue;
-      std::size_t cell = 0, cpos = 0;
-      while (true) {
-        const std::size_t comma = line.find(',', cpos);
-        std::string_view s =
-            line.substr(cpos, comma == std::string_view::npos ? line.size() - cpos : comma - cpos);
-        if (cell >= nch) {
-          throw InputError(label + ": line " + std::to_string(line_no) + " has more than " +
-                           std::to_string(nch) + " cells (header has " + std::to_string(nch) + ")");
-        }
-        while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-        while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
-        double v = 0;
-        const char* b = s.data();
-        const char* e = s.data() + s.size();
-        if (!s.empty() && *b == '+') ++b;
-        auto [ptr, err] = std::from_chars(b, e, v);
-        if (s.empty() || err != std::errc() || ptr != e) {
-          throw InputError(label + ": line " + std::to_string(line_no) + ", column '" +
-                           t.names_[cell] + "': '" + std::string(s) + "' is not a number");
-        }
-        if (!std::isfinite(v)) {
-          throw InputError(label + ": " + (std::isnan(v) ? "NaN" : "infinite") + " value at line " +
-                           std::to_string(line_no) + ", column '" + t.names_[cell] + "'");
-        }
-        t.columns_[cell].push_back(v);
-        ++cell;
-        if (comma == std::string_view::npos) break;
-        cpos = comma + 1;
-      }
-      if (cell != nch) {
-        throw InputError(label + ": line " + std::to_string(line_no) + " has " +
-                         std::to_string(cell) + " cells, the header has " + std::to_string(nch) +
-                         " (ragged row)");
-      }
-    }
-    t.samples_ = t.columns_[0].size();
+  } else if (is_text_signal_file(data.file)) {
+    t.read_text(data);
   } else {
-    throw InputError(label + ": unsupported signal format '" + ext + "' (use .csv, .f32, .f64)");
+    throw InputError(label + ": unsupported signal format '" + ext +
+                     "' (use text .csv, .txt, .tsv, .lvm or raw .f32, .f64)");
   }
   if (t.samples_ == 0) throw InputError(label + ": no samples");
   return t;
+}
+
+namespace {
+
+// The rows after the header: one cell per column, each a finite number. Templated on the
+// decimal mark so that the plain-CSV loop stays what it was (memchr for the delimiter,
+// from_chars in place).
+template <bool kDecimalComma, typename Fail>
+void parse_rows(std::string_view text, std::size_t pos, std::size_t line_no, char delim,
+                const std::vector<std::string>& names, std::vector<std::vector<double>>& columns,
+                const Fail& fail) {
+  const std::size_t nch = names.size();
+  while (pos < text.size()) {
+    ++line_no;
+    std::size_t eol = text.find('\n', pos);
+    if (eol == std::string_view::npos) eol = text.size();
+    std::string_view line = text.substr(pos, eol - pos);
+    pos = eol + 1;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    if (line.empty()) continue;
+    std::size_t cell = 0, cpos = 0;
+    while (true) {
+      const std::size_t d = line.find(delim, cpos);
+      std::string_view s =
+          line.substr(cpos, d == std::string_view::npos ? line.size() - cpos : d - cpos);
+      if (cell >= nch) {
+        fail("line " + std::to_string(line_no) + " has more than " + std::to_string(nch) +
+             " cells (header has " + std::to_string(nch) + ")");
+      }
+      double v = 0;
+      if (!to_double<kDecimalComma>(s, v)) {
+        while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+        while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+        fail("line " + std::to_string(line_no) + ", column '" + names[cell] + "': '" +
+             std::string(s) + "' is not a number");
+      }
+      if (!std::isfinite(v)) {
+        fail(std::string(std::isnan(v) ? "NaN" : "infinite") + " value at line " +
+             std::to_string(line_no) + ", column '" + names[cell] + "'");
+      }
+      columns[cell].push_back(v);
+      ++cell;
+      if (d == std::string_view::npos) break;
+      cpos = d + 1;
+    }
+    if (cell != nch) {
+      fail("line " + std::to_string(line_no) + " has " + std::to_string(cell) +
+           " cells, the header has " + std::to_string(nch) + " (ragged row)");
+    }
+  }
+}
+
+}  // namespace
+
+void SignalTable::read_text(const DataSpec& data) {
+  const std::string& label = label_;
+  if (data.decimal != '.' && data.decimal != ',') {
+    throw InputError(label + ": data.decimal must be \".\" or \",\"");
+  }
+  if (data.delimiter != 0 && data.delimiter != ',' && data.delimiter != ';' &&
+      data.delimiter != '\t') {
+    throw InputError(label + ": data.delimiter must be \",\", \";\" or tab");
+  }
+  if (data.delimiter == ',' && data.decimal == ',') {
+    throw InputError(label + ": data.decimal \",\" needs data.delimiter \";\" or tab");
+  }
+  MappedFile f(data.file, label);
+  std::string_view text(f.data() ? f.data() : "", f.size());
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);  // UTF-8 byte order mark
+
+  Dialect used;
+  used.decimal = data.decimal;
+  used.skip_lines = data.skip_lines;
+  // Every parse error ends with the dialect the file looks like, when it is another one.
+  const auto fail = [&](const std::string& what) {
+    throw InputError(label + ": " + what + dialect_hint(text, used));
+  };
+
+  std::size_t pos = 0;
+  for (int i = 0; i < data.skip_lines; ++i) {
+    const std::size_t nl = text.find('\n', pos);
+    if (nl == std::string_view::npos) {
+      throw InputError(label + ": data.skip_lines is " + std::to_string(data.skip_lines) +
+                       " but the file has only " + std::to_string(i + (pos < text.size())) +
+                       " lines");
+    }
+    pos = nl + 1;
+  }
+  const std::size_t line_end = text.find('\n', pos);
+  const std::string_view header = without_cr(text.substr(
+      pos, line_end == std::string_view::npos ? std::string_view::npos : line_end - pos));
+  const std::size_t body = line_end == std::string_view::npos ? text.size() : line_end + 1;
+  const char delim = data.delimiter != 0
+                         ? data.delimiter
+                         : detect_delimiter(header, text.substr(body), data.decimal);
+  delimiter_ = delim;
+  used.delimiter = delim;
+
+  std::size_t hpos = 0;
+  while (true) {
+    const std::size_t d = header.find(delim, hpos);
+    names_.push_back(trim(header.substr(hpos, d == std::string_view::npos ? d : d - hpos)));
+    if (d == std::string_view::npos) break;
+    hpos = d + 1;
+  }
+  if (names_.size() == 1 && names_[0].empty()) {
+    if (data.skip_lines > 0) {
+      fail("line " + std::to_string(data.skip_lines + 1) +
+           " (after data.skip_lines) is empty: a header row of channel names is required there");
+    }
+    fail("empty file (a header row of channel names is required)");
+  }
+  for (const auto& n : names_) {
+    if (!n.empty() && number_in(n, data.decimal)) {
+      fail((data.skip_lines > 0 ? "line " + std::to_string(data.skip_lines + 1) + ", the header "
+                                : std::string("first ")) +
+           "row must be a header of channel names, got '" + n + "'");
+    }
+  }
+  const std::size_t nch = names_.size();
+  columns_.assign(nch, {});
+  for (auto& c : columns_) c.reserve(text.size() / (nch * 12) + 1);
+  const std::size_t header_line = static_cast<std::size_t>(data.skip_lines) + 1;
+  if (data.decimal == ',') {
+    parse_rows<true>(text, body, header_line, delim, names_, columns_, fail);
+  } else {
+    parse_rows<false>(text, body, header_line, delim, names_, columns_, fail);
+  }
+  samples_ = columns_[0].size();
 }
 
 bool SignalTable::has(const std::string& name) const { return index_of(name) >= 0; }
@@ -192,27 +471,103 @@ int SignalTable::index_of(const std::string& name) const {
   return -1;
 }
 
-Eigen::VectorXd SignalTable::channel(const std::string& name, const ChannelSpec& cal) const {
-  const int idx = index_of(name);
-  if (idx < 0) {
-    std::string have;
-    for (const auto& n : names_) have += (have.empty() ? "" : ", ") + n;
-    throw InputError(label_ + ": no channel named '" + name + "' (channels: " + have + ")");
+std::size_t SignalTable::column_of(const std::string& name, const ChannelSpec& cal) const {
+  if (!cal.column) {
+    const int idx = index_of(name);
+    if (idx < 0) {
+      throw InputError(label_ + ": no channel named '" + name + "' (channels: " + joined(names_) +
+                       ")");
+    }
+    return static_cast<std::size_t>(idx);
   }
+  const ColumnRef& c = *cal.column;
+  const std::string key = "channels." + name + ".column";
+  if (c.by_index()) {
+    if (static_cast<std::size_t>(c.index) < names_.size()) return static_cast<std::size_t>(c.index);
+    throw InputError(label_ + ": " + key + " is " + std::to_string(c.index) +
+                     ", out of range: the file has " + std::to_string(names_.size()) +
+                     " columns, 0 to " + std::to_string(names_.size() - 1) + " (" + joined(names_) +
+                     ")");
+  }
+  const int idx = index_of(c.header);
+  if (idx >= 0) return static_cast<std::size_t>(idx);
+  std::string hint;
+  for (const auto& n : names_) {
+    if (lower(n) == lower(c.header) || edit_distance(n, c.header) <= 2) {
+      hint = " (did you mean '" + n + "'?)";
+      break;
+    }
+  }
+  throw InputError(label_ + ": " + key + " '" + c.header +
+                   "' is not a column of the header (columns: " + joined(names_, "'") + ")" + hint);
+}
+
+Eigen::VectorXd SignalTable::channel(const std::string& name, const ChannelSpec& cal) const {
+  const std::size_t idx = column_of(name, cal);
   Eigen::VectorXd out(static_cast<Eigen::Index>(samples_));
   if (mapped_) {
     const std::size_t nch = names_.size();
     const char* p = mapped_->data();
     for (std::size_t i = 0; i < samples_; ++i) {
-      const std::size_t k = i * nch + static_cast<std::size_t>(idx);
+      const std::size_t k = i * nch + idx;
       const double raw = value_bytes_ == 4 ? load_le<float>(p + 4 * k) : load_le<double>(p + 8 * k);
       out[static_cast<Eigen::Index>(i)] = cal.scale * raw + cal.offset;
     }
   } else {
-    const auto& c = columns_[static_cast<std::size_t>(idx)];
+    const auto& c = columns_[idx];
     for (std::size_t i = 0; i < samples_; ++i) {
       out[static_cast<Eigen::Index>(i)] = cal.scale * c[i] + cal.offset;
     }
+  }
+  return out;
+}
+
+std::vector<std::string> missing_channels(const SignalTable& table,
+                                          const std::vector<std::string>& required,
+                                          const std::map<std::string, ChannelSpec>& channels,
+                                          const std::string& what) {
+  std::vector<std::string> out;
+  const auto& names = table.names();
+  std::set<std::size_t> claimed;
+  std::vector<std::string> unresolved;
+  for (const auto& name : required) {
+    const auto it = channels.find(name);
+    const ChannelSpec cal = it == channels.end() ? ChannelSpec{} : it->second;
+    if (!cal.column && !table.has(name)) {
+      unresolved.push_back(name);
+      continue;
+    }
+    try {
+      claimed.insert(table.column_of(name, cal));
+    } catch (const InputError& e) {
+      out.push_back(e.what());
+    }
+  }
+  // Columns no required channel uses, a time column apart: the candidates to map.
+  std::vector<std::string> free;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const std::string base = header_without_unit(names[i]);
+    if (claimed.count(i) || base == "t" || base == "time" || names[i].empty()) continue;
+    if (std::find(required.begin(), required.end(), names[i]) != required.end()) continue;
+    free.push_back(names[i]);
+  }
+  for (const auto& name : unresolved) {
+    std::string msg = table.label() + ": channel '" + name + "' is required for " + what +
+                      " (channels: " + joined(names) + ")";
+    std::vector<std::string> same;
+    for (const auto& n : free) {
+      if (header_without_unit(n) == lower(name)) same.push_back(n);
+    }
+    const std::string key = "channels." + name + ".column";
+    if (same.size() == 1) {
+      msg += "; the column '" + same[0] + "' looks like it: set " + key + ": \"" + same[0] +
+             "\" (units in headers are not read: add a scale when the unit is not the one the "
+             "test needs)";
+    } else if (!free.empty()) {
+      msg += "; set " + key + " to the header text of its column (" + joined(free, "'") +
+             ") or its 0-based index";
+    }
+    out.push_back(msg);
   }
   return out;
 }

@@ -1,10 +1,12 @@
-// Signal files of EXPERIMENT_FORMAT.md section 1: CSV with a header of channel names, or raw
-// little-endian .f32/.f64 with channels interleaved. Raw files are memory-mapped and
+// Signal files of EXPERIMENT_FORMAT.md section 1: delimited text (CSV) with a header of channel
+// names, in the dialect `data:` states (delimiter, decimal comma, lines before the header), or
+// raw little-endian .f32/.f64 with channels interleaved. Raw files are memory-mapped and
 // calibrated lazily, one channel at a time, so 10^8-value files never live as text.
 #pragma once
 
 #include <Eigen/Core>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -15,11 +17,16 @@ namespace chatterlab::app {
 
 class MappedFile;
 
+// File extensions read as delimited text (CSV dialects); .f32/.f64 are raw.
+bool is_text_signal_file(const std::filesystem::path& file);
+
 class SignalTable {
  public:
   // Opens `data.file`. Throws InputError naming the file for: missing file, a raw file whose
   // size is not a multiple of (channels x value size), a CSV with a ragged row or a
   // non-numeric cell, NaN or infinite samples, an empty record. `label` prefixes messages.
+  // When a text file does not parse in the dialect of `data` but does in another, the message
+  // ends with the keys to set ("the file looks like ...: set data.delimiter ...").
   static SignalTable open(const DataSpec& data, const std::string& label);
 
   SignalTable(SignalTable&&) noexcept;
@@ -27,15 +34,26 @@ class SignalTable {
   ~SignalTable();
 
   std::size_t samples() const { return samples_; }
+  const std::string& label() const { return label_; }
   const std::vector<std::string>& names() const { return names_; }
   bool has(const std::string& name) const;
 
-  // physical = scale * raw + offset. Throws InputError when the channel does not exist.
+  // The column feeding channel `name`: `cal.column` when set, else the column whose header is
+  // `name`. Throws InputError naming the file and the key (channels.<name>.column) for a header
+  // text that is not in the header or an index out of range, or when no column is named `name`.
+  std::size_t column_of(const std::string& name, const ChannelSpec& cal = {}) const;
+
+  // physical = scale * raw + offset of the column feeding `name` (column_of).
   Eigen::VectorXd channel(const std::string& name, const ChannelSpec& cal = {}) const;
+
+  // The dialect the text file was read in (the detected delimiter when data.delimiter was
+  // absent); 0 for raw files.
+  char delimiter() const { return delimiter_; }
 
  private:
   SignalTable() = default;
   int index_of(const std::string& name) const;
+  void read_text(const DataSpec& data);
 
   std::string label_;
   std::vector<std::string> names_;
@@ -44,7 +62,18 @@ class SignalTable {
   std::unique_ptr<MappedFile> mapped_;  // raw interleaved
   int value_bytes_ = 0;
   std::vector<std::vector<double>> columns_;  // parsed CSV
+  char delimiter_ = 0;
 };
+
+// The problems of a test's `required` channels in `table`, one message each, empty when every
+// channel resolves: a bad channels.<name>.column, or a channel the file does not name, as
+// "<file>: channel 'force' is required for <what> (channels: ...)", followed by the mapping to
+// set when the header has a column no required channel uses (a header with a unit such as
+// "Force (N)" is proposed for channel force, but never taken without channels.force.column).
+std::vector<std::string> missing_channels(const SignalTable& table,
+                                          const std::vector<std::string>& required,
+                                          const std::map<std::string, ChannelSpec>& channels,
+                                          const std::string& what);
 
 // Writes channels as CSV (header row of names) or raw .f32/.f64 (by the file's extension).
 // Used by `synth`; throws InputError on I/O failure.

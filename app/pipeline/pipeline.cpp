@@ -255,13 +255,9 @@ void check_signals(TestSpec& t, const KindRegistry& kinds) {
   const std::string label = (t.id.empty() ? "" : t.id + "/") + t.data.relative_file;
   try {
     const SignalTable table = SignalTable::open(t.data, label);
-    for (const auto& name : kind->required_channels(t)) {
-      if (!table.has(name)) {
-        std::string have;
-        for (const auto& n : table.names()) have += (have.empty() ? "" : ", ") + n;
-        t.errors.push_back(label + ": channel '" + name + "' is required for a " + t.kind +
-                           " test (channels: " + have + ")");
-      }
+    for (auto& e :
+         missing_channels(table, kind->required_channels(t), t.channels, "a " + t.kind + " test")) {
+      t.errors.push_back(std::move(e));
     }
     const double duration = static_cast<double>(table.samples()) / t.sample_rate_hz;
     for (auto& e : kind->check_record(t, duration)) t.errors.push_back(std::move(e));

@@ -7,6 +7,7 @@
 #include "app/core/yaml_reader.h"
 #include "app/kinds/cut/cut_spec.h"
 #include "app/kinds/tap/tap_step.h"
+#include "app/pipeline/pipeline.h"
 #include "tests/support/temp_campaign.h"
 
 namespace chatterlab::app {
@@ -165,6 +166,141 @@ TEST(Campaign, ChannelCalibrationParsed) {
   EXPECT_DOUBLE_EQ(c.tests[0].channel("force").scale, 2.5);
   EXPECT_DOUBLE_EQ(c.tests[0].channel("force").offset, -1.0);
   EXPECT_DOUBLE_EQ(c.tests[0].channel("response").scale, 1.0);
+}
+
+// ---- CSV dialect and column keys (EXPERIMENT_FORMAT.md section 1) ----
+
+CampaignSpec tap_with(TempDir& d, const std::string& data_and_channels,
+                      const std::string& file = "hits.txt") {
+  d.write("campaign.yaml", kCampaignYaml);
+  d.write("t/test.yaml",
+          "kind: tap\naxis: x\nsample_rate_hz: 1000\nresponse: acceleration\n" + data_and_channels);
+  d.write("t/" + file, "force;response\n1,5;2\n");
+  return load_campaign(d.path());
+}
+
+TEST(CampaignDialect, DataKeysParsed) {
+  TempDir d;
+  const CampaignSpec c =
+      tap_with(d, "data: {file: hits.txt, delimiter: \";\", decimal: \",\", skip_lines: 22}\n");
+  const TestSpec& t = c.tests[0];
+  EXPECT_TRUE(t.errors.empty()) << t.errors[0];
+  EXPECT_TRUE(t.warnings.empty()) << t.warnings[0];
+  EXPECT_EQ(t.data.delimiter, ';');
+  EXPECT_EQ(t.data.decimal, ',');
+  EXPECT_EQ(t.data.skip_lines, 22);
+}
+
+TEST(CampaignDialect, DefaultsAndTheWaysToWriteTab) {
+  TempDir d;
+  EXPECT_EQ(tap_with(d, "data: {file: hits.txt}\n").tests[0].data.delimiter, 0);  // detected
+  EXPECT_EQ(tap_with(d, "data: {file: hits.txt}\n").tests[0].data.decimal, '.');
+  EXPECT_EQ(tap_with(d, "data: {file: hits.txt}\n").tests[0].data.skip_lines, 0);
+  for (const char* tab : {"tab", "\"\\t\"", "'\\t'"}) {
+    const CampaignSpec c =
+        tap_with(d, std::string("data:\n  file: hits.txt\n  delimiter: ") + tab + "\n");
+    EXPECT_EQ(c.tests[0].data.delimiter, '\t') << tab;
+    EXPECT_TRUE(c.tests[0].errors.empty()) << tab;
+  }
+  EXPECT_EQ(tap_with(d, "data: {file: hits.txt, delimiter: \",\"}\n").tests[0].data.delimiter, ',');
+}
+
+TEST(CampaignDialect, BadValuesNameFileAndKey) {
+  TempDir d;
+  EXPECT_EQ(tap_with(d, "data: {file: hits.txt, delimiter: \"|\"}\n").tests[0].errors,
+            std::vector<std::string>{
+                "t/test.yaml: key 'data.delimiter' must be \",\", \";\" or tab, got '|'"});
+  EXPECT_EQ(
+      tap_with(d, "data: {file: hits.txt, decimal: \";\"}\n").tests[0].errors,
+      std::vector<std::string>{"t/test.yaml: key 'data.decimal' must be \".\" or \",\", got ';'"});
+  EXPECT_EQ(
+      tap_with(d, "data: {file: hits.txt, delimiter: \",\", decimal: \",\"}\n").tests[0].errors,
+      std::vector<std::string>{"t/test.yaml: key 'data.decimal' \",\" needs data.delimiter "
+                               "\";\" or tab (the cells are split at \",\")"});
+  for (const char* n : {"-1", "2.5"}) {
+    EXPECT_EQ(
+        tap_with(d, std::string("data: {file: hits.txt, skip_lines: ") + n + "}\n").tests[0].errors,
+        std::vector<std::string>{"t/test.yaml: key 'data.skip_lines' must be a whole number "
+                                 ">= 0 (lines before the header row)"})
+        << n;
+  }
+  EXPECT_TRUE(
+      any_contains(tap_with(d, "data: {file: hits.txt, skip_lines: many}\n").tests[0].errors,
+                   "t/test.yaml: key 'data.skip_lines'"));
+}
+
+TEST(CampaignDialect, TextExtensionsAcceptedOthersRefused) {
+  TempDir d;
+  for (const char* f : {"hits.csv", "hits.txt", "hits.tsv", "hits.lvm", "HITS.CSV"}) {
+    const CampaignSpec c = tap_with(d, std::string("data: {file: ") + f + "}\n", f);
+    EXPECT_TRUE(c.tests[0].errors.empty()) << f << ": " << c.tests[0].errors[0];
+  }
+  const CampaignSpec c = tap_with(d, "data: {file: hits.xlsx}\n", "hits.xlsx");
+  EXPECT_TRUE(any_contains(c.tests[0].errors,
+                           "t/test.yaml: key 'data.file' 'hits.xlsx': unsupported signal format "
+                           "(use text .csv, .txt, .tsv, .lvm or raw .f32, .f64)"));
+}
+
+TEST(CampaignDialect, DialectKeysOnARawFileAreIgnoredWithAWarning) {
+  TempDir d;
+  const CampaignSpec c =
+      tap_with(d, "data: {file: s.f32, channels: [force, response], delimiter: \";\"}\n", "s.f32");
+  EXPECT_TRUE(any_contains(c.tests[0].warnings,
+                           "t/test.yaml: key 'data.delimiter' applies to text files and is "
+                           "ignored for a raw binary file"));
+}
+
+TEST(CampaignDialect, ColumnByHeaderTextOrIndex) {
+  TempDir d;
+  const CampaignSpec c = tap_with(d,
+                                  "data: {file: hits.txt}\n"
+                                  "channels:\n"
+                                  "  force: {column: \"Force (N)\"}\n"
+                                  "  response: {column: 2, scale: 9.81}\n"
+                                  "  a: {column: Hammer}\n"
+                                  "  b: {column: \"2\"}\n");
+  const TestSpec& t = c.tests[0];
+  EXPECT_TRUE(t.errors.empty()) << t.errors[0];
+  EXPECT_TRUE(t.warnings.empty()) << t.warnings[0];
+  ASSERT_TRUE(t.channel("force").column.has_value());
+  EXPECT_EQ(t.channel("force").column->header, "Force (N)");
+  EXPECT_FALSE(t.channel("force").column->by_index());
+  ASSERT_TRUE(t.channel("response").column.has_value());
+  EXPECT_EQ(t.channel("response").column->index, 2);
+  EXPECT_DOUBLE_EQ(t.channel("response").scale, 9.81);
+  EXPECT_EQ(t.channel("a").column->header, "Hammer");
+  EXPECT_EQ(t.channel("b").column->header, "2");  // quoted: a header text
+  EXPECT_FALSE(t.channel("x").column.has_value());
+}
+
+TEST(CampaignDialect, BadColumnValues) {
+  TempDir d;
+  for (const char* v : {"-1", "1.5", "[1, 2]", "\"\""}) {
+    const CampaignSpec c = tap_with(
+        d, std::string("data: {file: hits.txt}\nchannels:\n  force: {column: ") + v + "}\n");
+    EXPECT_TRUE(any_contains(c.tests[0].errors,
+                             "t/test.yaml: key 'channels.force.column' must be the header text "
+                             "of a column or its 0-based index"))
+        << v << ": " << (c.tests[0].errors.empty() ? "no error" : c.tests[0].errors[0]);
+  }
+}
+
+TEST(CampaignDialect, ValidateReportsABadColumnWithFileAndKey) {
+  TempDir d;
+  d.write("campaign.yaml", kCampaignYaml);
+  d.write(
+      "t/test.yaml",
+      "kind: tap\naxis: x\nsample_rate_hz: 1000\nresponse: acceleration\n"
+      "data: {file: hits.csv}\nchannels:\n  force: {column: Hammer}\n  response: {column: 5}\n");
+  d.write("t/hits.csv", "t,Force (N),Accel\n0,1,2\n");
+  CampaignSpec c = load_campaign(d.path());
+  check_signals(c.tests[0]);
+  EXPECT_EQ(c.tests[0].errors,
+            (std::vector<std::string>{
+                "t/hits.csv: channels.force.column 'Hammer' is not a column of the header "
+                "(columns: 't', 'Force (N)', 'Accel')",
+                "t/hits.csv: channels.response.column is 5, out of range: the file has 3 "
+                "columns, 0 to 2 (t, Force (N), Accel)"}));
 }
 
 }  // namespace
