@@ -147,7 +147,7 @@ void read_variances(const YAML::Node& filter, const std::string& key, bool stric
 
 void read_filter(const YAML::Node& f, YamlReader& r, GrindingSpec& s) {
   r.check_keys(f, {"P0", "Q", "R0_cycle_var_um2"}, "filter");
-  read_variances(f, "P0", true, s.filter.P0, r);
+  read_variances(f, "P0", false, s.filter.P0, r);  // 0: a state known exactly
   read_variances(f, "Q", false, s.filter.Q, r);
   s.filter.R0_cycle_var_um2 = 0.0;
   read_number(f, "filter", "R0_cycle_var_um2", false, 0, false, &s.filter.R0_cycle_var_um2, r);
@@ -356,20 +356,27 @@ std::vector<std::string> GrindingKind::check_campaign(const CampaignSpec& c,
   return {};
 }
 
+// An available_cycle at or beyond this is "never" (no series has so many cycles).
+constexpr double kNeverAvailable = 1e9;
+
 std::vector<g::Inspection> read_inspections(const std::filesystem::path& file,
-                                            const std::string& label) {
+                                            const std::string& label,
+                                            std::vector<std::string>& warnings) {
   std::ifstream in(file);
   if (!in) throw InputError(label + ": cannot be read");
   std::string line;
   if (!std::getline(in, line)) throw InputError(label + ": empty file (needs a header row)");
+  if (line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte-order mark
   const std::vector<std::string> header = split(line);
   std::map<std::string, std::size_t> col;
   for (std::size_t k = 0; k < header.size(); ++k) {
     static const std::set<std::string> known = {"cycle", "available_cycle", "ds_mm", "Ra_um",
                                                 "roundness_um"};
-    if (!known.count(header[k])) {
-      throw InputError(label + ": column '" + header[k] +
-                       "' is not one of cycle, available_cycle, ds_mm, Ra_um, roundness_um");
+    if (!known.count(header[k])) {  // a lab's own column (an operator's name): not read
+      warnings.push_back(label + ": column '" + header[k] +
+                         "' is not one of cycle, available_cycle, ds_mm, Ra_um, roundness_um "
+                         "and is ignored");
+      continue;
     }
     if (!col.emplace(header[k], k).second) {
       throw InputError(label + ": column '" + header[k] + "' appears twice");
@@ -418,8 +425,20 @@ std::vector<g::Inspection> read_inspections(const std::filesystem::path& file,
     };
     g::Inspection i;
     i.cycle = whole("cycle", number("cycle"));
-    const double avail = number("available_cycle");
-    i.available_cycle = std::isnan(avail) ? i.cycle : whole("available_cycle", avail);
+    // available_cycle: empty means on time; inf or a value beyond any series (a lab's "never"
+    // sentinel) is a result that is never used (format section 7).
+    const auto it = col.find("available_cycle");
+    const std::string avail_text = it == col.end() ? "" : trim(cells[it->second]);
+    const bool never = avail_text == "inf" || avail_text == "Inf" || avail_text == "INF";
+    const double avail =
+        never ? std::numeric_limits<double>::infinity() : number("available_cycle");
+    if (std::isnan(avail)) {
+      i.available_cycle = i.cycle;
+    } else if (avail >= kNeverAvailable) {
+      i.available_cycle = std::numeric_limits<int>::max();
+    } else {
+      i.available_cycle = whole("available_cycle", avail);
+    }
     i.ds_mm = number("ds_mm");
     i.Ra_um = number("Ra_um");
     i.roundness_um = number("roundness_um");
@@ -440,10 +459,34 @@ void GrindingKind::run(const TestSpec& t, const CampaignValues&, const RunContex
       throw InputError(t.yaml_label + ": key 'inspections.file' '" + s.inspections_file +
                        "': must lie inside the campaign folder");
     }
-    res->inspections = read_inspections(inspections_path(t, s), inspections_label(t, s));
+    res->inspections =
+        read_inspections(inspections_path(t, s), inspections_label(t, s), out.warnings);
+  }
+  // A series still being acquired: inspections and dressings past the record's last cycle are
+  // left for a later run, with a warning (the format is silent on them).
+  const int last_cycle = rec.cycle.empty() ? 0 : rec.cycle.back();
+  std::vector<g::Dressing> dressings;
+  for (const auto& d : s.dressings) {
+    if (d.before_cycle > last_cycle && last_cycle > 0) {
+      out.warnings.push_back(t.yaml_label + ": key 'dressings': the dressing before cycle " +
+                             std::to_string(d.before_cycle) +
+                             " is after the record's last cycle (" + std::to_string(last_cycle) +
+                             ") and is not used");
+    } else {
+      dressings.push_back(d);
+    }
+  }
+  const auto past = std::remove_if(res->inspections.begin(), res->inspections.end(),
+                                   [&](const g::Inspection& i) { return i.cycle > last_cycle; });
+  if (past != res->inspections.end() && last_cycle > 0) {
+    out.warnings.push_back(inspections_label(t, s) + ": " +
+                           std::to_string(res->inspections.end() - past) +
+                           " row(s) for cycles after the record's last cycle (" +
+                           std::to_string(last_cycle) + ") are not used");
+    res->inspections.erase(past, res->inspections.end());
   }
   try {
-    g::check_series(rec, res->inspections, s.dressings);
+    g::check_series(rec, res->inspections, dressings);
   } catch (const InputError& e) {
     throw InputError(series_message(t, s, e.what()));
   }
@@ -462,7 +505,7 @@ void GrindingKind::run(const TestSpec& t, const CampaignValues&, const RunContex
     GrindingEstimatorResult& e = res->estimators[k];
     const auto t0 = std::chrono::steady_clock::now();
     e.run = g::run_grinding_estimator(g::kGrindingEstimators[k].id, s.model, fs, rec,
-                                      res->inspections, s.dressings);
+                                      res->inspections, dressings);
     e.runtime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (e.run.summary.ok()) e.observability = observability_of(e.run, rec, s.model);
   });
@@ -636,7 +679,7 @@ void write_grinding_trajectory(const std::filesystem::path& file, const g::Grind
   char buf[32];
   const auto num = [&](double v) -> const char* {
     if (!std::isfinite(v)) return "nan";
-    std::snprintf(buf, sizeof buf, "%.12g", v);
+    std::snprintf(buf, sizeof buf, "%.17g", v);  // the row j = n_i equals per_cycle
     return buf;
   };
   for (const auto& e : run.trajectory) {

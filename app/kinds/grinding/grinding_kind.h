@@ -87,9 +87,11 @@ class GrindingKind : public TestKind {
 
 // The inspections CSV of format section 7 (header cycle[,available_cycle],ds_mm,Ra_um,
 // roundness_um; empty or nan: not measured; no available_cycle column: on time). `label` names
-// the file in messages. @throws InputError
+// the file in messages; a column beyond these (an operator's name) is read past with a note
+// in `warnings`. @throws InputError
 std::vector<grinding::Inspection> read_inspections(const std::filesystem::path& file,
-                                                   const std::string& label);
+                                                   const std::string& label,
+                                                   std::vector<std::string>& warnings);
 
 // The trajectory file of one estimator: `cycle,j`, the states and their 3sigma with the
 // per_cycle names, one row per filter instant (format section 7). @throws InputError

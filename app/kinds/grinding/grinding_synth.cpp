@@ -140,7 +140,9 @@ GrindingTestSynth read_test(const YAML::Node& t, const std::string& path, YamlRe
         const std::string dp = path + ".dressings[" + std::to_string(k) + "]";
         r.check_keys(d[k], {"before_cycle", "depth_mm", "true_depth_mm"}, dp);
         GrindingDressingSynth x;
-        x.before_cycle = static_cast<int>(r.required_double(d[k], "before_cycle", dp));
+        const double before = r.required_double(d[k], "before_cycle", dp);
+        if (before != std::floor(before)) r.error(dp + ".before_cycle", "must be a whole cycle");
+        x.before_cycle = static_cast<int>(before);
         x.depth_mm = r.required_double(d[k], "depth_mm", dp);
         x.true_depth_mm = r.optional_double(d[k], "true_depth_mm", dp).value_or(x.depth_mm);
         if (x.before_cycle < 2 || x.before_cycle > s.cycles) {

@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <string>
@@ -132,8 +133,9 @@ TEST(GrindingKind, EveryParseProblemNamesItsKey) {
                  "filter:\n  P0: {Vw_mm2: 10, v_mm_s: 1.0e-7, ds_mm: 1.0e-6, R0_um: 0.01}\n"),
        "g/test.yaml: key 'filter.Q' is missing: it must be a mapping {Vw_mm2, v_mm_s, ds_mm, "
        "R0_um} of variances"},
-      {replaced(test_yaml(), "ds_mm: 1.0e-6", "ds_mm: 0"),
-       "g/test.yaml: key 'filter.P0.ds_mm' = 0: must be a number > 0"},
+      // P0 = 0 is a state known exactly; a negative variance is an error.
+      {replaced(test_yaml(), "ds_mm: 1.0e-6", "ds_mm: -1.0e-6"),
+       "g/test.yaml: key 'filter.P0.ds_mm' = -1.00000e-06: must be a number >= 0"},
       {test_yaml("dressings: [{before_cycle: 1, depth_mm: 0.04}]\n"),
        "g/test.yaml: key 'dressings[0].before_cycle' = 1: must be a number >= 2"},
       {test_yaml("dressings: [{before_cycle: 2.5, depth_mm: 0.04}]\n"),
@@ -197,8 +199,10 @@ TEST(GrindingKind, RecordWithoutAChannelIsUnusable) {
 
 TEST(GrindingKind, InspectionsFileRules) {
   TempDir d;
+  std::vector<std::string> warnings;
   const auto read = [&](const std::string& text) {
-    return read_inspections(d.write("i.csv", text), "g/i.csv");
+    warnings.clear();
+    return read_inspections(d.write("i.csv", text), "g/i.csv", warnings);
   };
   const auto ins = read(
       "cycle,available_cycle,ds_mm,Ra_um,roundness_um\n"
@@ -223,14 +227,44 @@ TEST(GrindingKind, InspectionsFileRules) {
     return std::string();
   };
   EXPECT_EQ(error("ds_mm\n49.9\n"), "g/i.csv: the header has no column 'cycle'");
-  EXPECT_EQ(
-      error("cycle,ds\n1,2\n"),
-      "g/i.csv: column 'ds' is not one of cycle, available_cycle, ds_mm, Ra_um, roundness_um");
+  // A lab's own column is read past with a warning; an Excel byte-order mark is no column name.
+  const auto extra = read(std::string("\xEF\xBB\xBF") + "cycle,operator,ds_mm\n1,Ann,49.9\n");
+  ASSERT_EQ(extra.size(), 1u);
+  EXPECT_EQ(extra[0].ds_mm, 49.9);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0],
+            "g/i.csv: column 'operator' is not one of cycle, available_cycle, ds_mm, Ra_um, "
+            "roundness_um and is ignored");
+  // "Never" (format section 7: a result available after the last cycle is never used).
+  const auto never = read("cycle,available_cycle,ds_mm\n1,inf,49.9\n2,1e10,49.8\n3,,49.7\n");
+  EXPECT_EQ(never[0].available_cycle, std::numeric_limits<int>::max());
+  EXPECT_EQ(never[1].available_cycle, std::numeric_limits<int>::max());
+  EXPECT_EQ(never[2].available_cycle, 3);
   EXPECT_EQ(error("cycle,ds_mm\n1,abc\n"),
             "g/i.csv: line 2, column ds_mm: 'abc' is not a number (empty or nan: not measured)");
   EXPECT_EQ(error("cycle,ds_mm\n1.5,49\n"),
             "g/i.csv: line 2, column cycle: must be a whole cycle number");
   EXPECT_EQ(error("cycle,ds_mm\n1\n"), "g/i.csv: line 2 has 1 fields, the header 2");
+}
+
+// A series still being acquired: an inspection row and a dressing past the record's last cycle
+// are left out with a warning naming them, and the test runs.
+TEST(GrindingKind, InspectionsAndDressingsPastTheRecordAreLeftOut) {
+  TempDir d;
+  campaign(d, test_yaml("dressings:\n  - {before_cycle: 9, depth_mm: 0.010}\n"),
+           "cycle,ds_mm\n1,49.99\n7,49.9\n");
+  CampaignResults r = run_campaign(load_campaign(d.path()), {});
+  ASSERT_EQ(r.tests.size(), 1u);
+  const TestOutcome& t = r.tests[0];
+  ASSERT_TRUE(t.status.ok()) << t.status.message;
+  ASSERT_EQ(t.warnings.size(), 2u);
+  EXPECT_NE(t.warnings[0].find("the dressing before cycle 9 is after the record's last cycle (3)"),
+            std::string::npos)
+      << t.warnings[0];
+  EXPECT_EQ(
+      t.warnings[1],
+      "g/inspections.csv: 1 row(s) for cycles after the record's last cycle (3) are not used");
+  EXPECT_EQ(t.result_of<GrindingResult>().inspections.size(), 1u);
 }
 
 // The hand-written campaign: cycle 1 inspected late (usable at the end of cycle 2) with d_s
@@ -326,7 +360,7 @@ TEST(GrindingKind, WriteFilesWritesOneRowPerInstant) {
 
 TEST(GrindingKind, BadSeriesAreSkippedNamingTheFileOrKey) {
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"cycle,ds_mm\n9,49.9\n", "g/inspections.csv: cycle 9 is not in 1..3"},
+      {"cycle,ds_mm\n0,49.9\n", "g/inspections.csv: cycle 0 is not in 1..3"},
       {"cycle,available_cycle,ds_mm\n2,1,49.9\n",
        "g/inspections.csv: cycle 2: available_cycle 1 is before the cycle"},
   };
@@ -338,11 +372,7 @@ TEST(GrindingKind, BadSeriesAreSkippedNamingTheFileOrKey) {
     EXPECT_EQ(r.tests[0].failure, Failure::kInput);
     EXPECT_EQ(r.tests[0].status.message, message);
   }
-  TempDir d;
-  campaign(d, test_yaml("dressings: [{before_cycle: 7, depth_mm: 0.01}]\n"), kInspections);
-  CampaignResults r = run_campaign(load_campaign(d.path()), {});
-  EXPECT_EQ(r.tests[0].status.message,
-            "g/test.yaml: key 'dressings' before_cycle 7 is not in 2..3");
+  CampaignResults r;
   TempDir e;
   campaign(e, test_yaml(), kInspections);
   e.write("g/fast.csv", "cycle,u_mm_s,power,Dw_mm\n1,0,0.85,0\n1.5,0,0.85,0\n");
