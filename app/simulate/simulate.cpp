@@ -147,7 +147,8 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
   results["runtime_s"] = sim.runtime_s;
   results["steps_per_s"] = sim.runtime_s > 0 ? static_cast<double>(sim.steps) / sim.runtime_s : 0.0;
   results["spec_sha256"] = sha256_file(spec_file);
-  std::vector<std::string> warnings;
+  std::vector<std::string> warnings = spec.warnings;
+  for (const auto& w : spec.warnings) log << "chatterlab simulate: warning: " << w << "\n";
 
   std::optional<dynamics::BifurcationResult> bif;
   std::vector<dynamics::PoincareMap> maps;
@@ -169,8 +170,16 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
     } else {
       warnings.push_back("too few revolutions for the bifurcation detector");
     }
+    // Always present (format section 3): null with the reason when the detector could not run,
+    // null alone when the run never changes state.
+    results["bifurcation_depth_mm"] = nullptr;
+    results["bifurcation_status"] = bif && bif->summary.ok() ? "ok" : "skipped";
+    if (!bif) {
+      results["bifurcation_skip_reason"] = "too few revolutions for the bifurcation detector";
+    }
     if (bif && !bif->summary.ok()) {
       warnings.push_back("bifurcation detection failed: " + bif->summary.message);
+      results["bifurcation_skip_reason"] = bif->summary.message;
     } else if (bif) {
       results["bifurcation_depth_mm"] =
           bif->bifurcation_depth_m ? json(*bif->bifurcation_depth_m * kMToMm) : json(nullptr);

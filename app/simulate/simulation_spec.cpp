@@ -71,7 +71,7 @@ SimulationSpec load_simulation_spec(const std::filesystem::path& file) {
   if (!root.IsMap()) throw InputError(label + ": must be a YAML mapping of keys");
   r.check_keys(root,
                {"format", "tool", "modal", "coefficients", "cut", "chip_model", "steps_per_tooth",
-                "inertial", "poincare_depths_mm", "switching", "euler_order"});
+                "inertial", "poincare_depths_mm", "switching", "euler_order", "detector_noise_m"});
   const auto format = r.required_string(root, "format");
   if (!format.empty() && format != "chatterlab-simulation/1") {
     r.error("format", "'" + format + "': must be 'chatterlab-simulation/1'");
@@ -205,6 +205,7 @@ SimulationSpec load_simulation_spec(const std::filesystem::path& file) {
     for (const auto& e : r.errors()) msg += (msg.empty() ? "" : "\n") + e;
     throw InputError(msg);
   }
+  s.warnings = r.warnings();
   return s;
 }
 

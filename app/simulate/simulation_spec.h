@@ -31,6 +31,9 @@ struct SimulationSpec {
   // measurement noise of 000 sec. 6.1 by default, so that simulated and measured bifurcation
   // depths are read on one yardstick (docs/bifurcation.md).
   double detector_noise_m = 5e-7;
+  // Keys of the spec nobody reads (a misspelt key gets a suggestion), naming the file and key:
+  // `simulate` prints them and lists them in results.json `warnings`.
+  std::vector<std::string> warnings;
 };
 
 // Reads and validates a spec; throws InputError listing every problem with file and key.

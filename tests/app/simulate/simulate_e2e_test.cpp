@@ -69,6 +69,30 @@ TEST(SimulateEndToEnd, ConstantDepthHasNoBifurcationDepth) {
   EXPECT_EQ(r["revolutions"], 300);
   EXPECT_EQ(r["depth_profile"], "constant");
   EXPECT_TRUE(r["bifurcation_depth_mm"].is_null());
+  EXPECT_EQ(r["bifurcation_status"], "ok");
+}
+
+// Too short a run for the detector: bifurcation_depth_mm is still there (null) with the reason.
+TEST(SimulateEndToEnd, TooShortForTheDetectorSaysWhy) {
+  TempDir d;
+  const auto spec =
+      d.write("c.yaml",
+              "format: chatterlab-simulation/1\n"
+              "tool: {teeth: 2, radius_mm: 6.35}\n"
+              "modal: {m_kg: 0.03134, c_kg_s: 22.21, k_N_m: 9.84e5}\n"
+              "coefficients: {Kt_N_m2: 5.89e8, Kr_N_m2: 3.19e8}\n"
+              "cut: {spindle_rpm: 15000, feed_per_tooth_mm: 0.0635,\n"
+              "      radial_immersion_mm: 0.382, axial_depth_mm: 0.5, revolutions: 2}\n");
+  std::ostringstream log;
+  SimulateOptions o;
+  o.pdf = false;
+  o.report = false;
+  ASSERT_EQ(run_simulate(spec, d.path() / "out", o, log), 0) << log.str();
+  const json r = read_json(d.path() / "out/results.json");
+  ASSERT_TRUE(r.contains("bifurcation_depth_mm"));
+  EXPECT_TRUE(r["bifurcation_depth_mm"].is_null());
+  EXPECT_EQ(r["bifurcation_status"], "skipped");
+  EXPECT_FALSE(r["bifurcation_skip_reason"].get<std::string>().empty());
 }
 
 TEST(SimulateEndToEnd, BadSpecNamesFileAndKey) {

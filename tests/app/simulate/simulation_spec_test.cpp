@@ -88,5 +88,19 @@ TEST(SimulationSpec, ErrorsNameFileAndKey) {
             std::string::npos);
 }
 
+// Keys nobody reads are warnings naming the file and key (the spec still loads);
+// detector_noise_m is a key of the spec.
+TEST(SimulationSpec, UnknownKeysAreWarningsAndDetectorNoiseIsRead) {
+  TempDir d;
+  const SimulationSpec s = load_simulation_spec(d.write(
+      "spec.yaml", std::string(kSpec) + "detector_noise_m: 1.0e-6\nchip_modle: numerical\n"));
+  EXPECT_DOUBLE_EQ(s.detector_noise_m, 1e-6);
+  EXPECT_EQ(s.chip_model, "traditional");  // the misspelt key is not read
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_EQ(s.warnings[0],
+            "spec.yaml: key 'chip_modle' is not part of the format and is ignored (did you mean "
+            "'chip_model'?)");
+}
+
 }  // namespace
 }  // namespace chatterlab::app
