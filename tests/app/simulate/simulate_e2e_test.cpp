@@ -51,16 +51,20 @@ TEST(SimulateEndToEnd, InclineOneOfTheSourceTable) {
   EXPECT_TRUE(std::filesystem::exists(d.path() / "index.html"));
 }
 
+// A constant 0.5 mm cut of the given length (000 table 5.2's tool, the dynamometer's Ktc, Krc).
+std::string constant_depth_spec(int revolutions) {
+  return "format: chatterlab-simulation/1\n"
+         "tool: {teeth: 2, radius_mm: 6.35}\n"
+         "modal: {m_kg: 0.03134, c_kg_s: 22.21, k_N_m: 9.84e5}\n"
+         "coefficients: {Kt_N_m2: 5.89e8, Kr_N_m2: 3.19e8}\n"
+         "cut: {spindle_rpm: 15000, feed_per_tooth_mm: 0.0635,\n"
+         "      radial_immersion_mm: 0.382, axial_depth_mm: 0.5, revolutions: " +
+         std::to_string(revolutions) + "}\n";
+}
+
 TEST(SimulateEndToEnd, ConstantDepthHasNoBifurcationDepth) {
   TempDir d;
-  const auto spec =
-      d.write("c.yaml",
-              "format: chatterlab-simulation/1\n"
-              "tool: {teeth: 2, radius_mm: 6.35}\n"
-              "modal: {m_kg: 0.03134, c_kg_s: 22.21, k_N_m: 9.84e5}\n"
-              "coefficients: {Kt_N_m2: 5.89e8, Kr_N_m2: 3.19e8}\n"
-              "cut: {spindle_rpm: 15000, feed_per_tooth_mm: 0.0635,\n"
-              "      radial_immersion_mm: 0.382, axial_depth_mm: 0.5, revolutions: 300}\n");
+  const auto spec = d.write("c.yaml", constant_depth_spec(300));
   std::ostringstream log;
   SimulateOptions o;
   o.pdf = false;
@@ -75,14 +79,7 @@ TEST(SimulateEndToEnd, ConstantDepthHasNoBifurcationDepth) {
 // Too short a run for the detector: bifurcation_depth_mm is still there (null) with the reason.
 TEST(SimulateEndToEnd, TooShortForTheDetectorSaysWhy) {
   TempDir d;
-  const auto spec =
-      d.write("c.yaml",
-              "format: chatterlab-simulation/1\n"
-              "tool: {teeth: 2, radius_mm: 6.35}\n"
-              "modal: {m_kg: 0.03134, c_kg_s: 22.21, k_N_m: 9.84e5}\n"
-              "coefficients: {Kt_N_m2: 5.89e8, Kr_N_m2: 3.19e8}\n"
-              "cut: {spindle_rpm: 15000, feed_per_tooth_mm: 0.0635,\n"
-              "      radial_immersion_mm: 0.382, axial_depth_mm: 0.5, revolutions: 2}\n");
+  const auto spec = d.write("c.yaml", constant_depth_spec(2));
   std::ostringstream log;
   SimulateOptions o;
   o.pdf = false;
