@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "analysis/common/summary.h"
+#include "app/cli/command_line.h"
 #include "app/cli/validate.h"
 #include "app/core/campaign.h"
 #include "app/report/report.h"
@@ -14,74 +15,52 @@
 
 namespace {
 
-const char* kUsage =
-    "usage:\n"
-    "  chatterlab report <campaign> --out <dir> [--no-pdf] [--jobs N]\n"
-    "      analyse every test of the campaign; write index.html, report.pdf, results.json\n"
-    "  chatterlab validate <campaign>\n"
-    "      list the tests found and every problem; exit 1 when any test is unusable\n"
-    "  chatterlab simulate <spec.yaml> --out <dir> [--no-pdf] [--results-only]\n"
-    "      one milling simulation: bifurcation depth, Poincare maps, figures, results.json\n"
-    "  chatterlab synth <spec.yaml> --out <campaign>\n"
-    "      write a synthetic campaign with truth.yaml (spec format: docs/synth.md)\n"
-    "  chatterlab --version | --help\n";
-
-int usage_error(const std::string& what) {
-  std::cerr << "chatterlab: " << what << "\n" << kUsage;
+int usage_error(const std::string& what, const std::string& command) {
+  std::cerr << "chatterlab: " << what << "\n" << chatterlab::app::command_usage(command);
   return 2;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<std::string> args(argv + 1, argv + argc);
-  if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
-    std::cout << kUsage;
-    return args.empty() ? 2 : 0;
+  using chatterlab::app::command_usage;
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  const chatterlab::app::ParsedCommandLine parsed = chatterlab::app::parse_command_line(args);
+  const chatterlab::app::CommandLine& line = parsed.line;
+  const std::string& cmd = line.command;
+  if (!parsed.error.empty()) {
+    // The command's own usage when it is known, else every command's.
+    return usage_error(parsed.error, command_usage(cmd).empty() ? "" : cmd);
   }
-  if (args[0] == "--version") {
+  if (line.help) {
+    std::cout << command_usage(cmd);
+    return 0;
+  }
+  if (line.version) {
     std::cout << "chatterlab " << CHATTERLAB_VERSION << "\n";
     return 0;
   }
-  const std::string cmd = args[0];
-  std::vector<std::string> positional;
-  std::string out;
+  const std::vector<std::string>& positional = line.positional;
+  const std::string& out = line.out;
   chatterlab::app::ReportOptions report_options;
-  bool results_only = false;
-  for (std::size_t i = 1; i < args.size(); ++i) {
-    if (args[i] == "--out" && i + 1 < args.size()) {
-      out = args[++i];
-    } else if (args[i] == "--no-pdf") {
-      report_options.pdf = false;
-    } else if (args[i] == "--results-only") {
-      results_only = true;
-    } else if (args[i] == "--jobs" && i + 1 < args.size()) {
-      try {
-        report_options.jobs = std::stoi(args[++i]);
-      } catch (const std::exception&) {
-        return usage_error("--jobs takes a whole number");
-      }
-    } else if (!args[i].empty() && args[i][0] == '-') {
-      return usage_error("unknown option '" + args[i] + "'");
-    } else {
-      positional.push_back(args[i]);
-    }
-  }
+  report_options.pdf = line.pdf;
+  report_options.jobs = line.jobs;
+  const bool results_only = line.results_only;
   try {
     if (cmd == "validate") {
-      if (positional.size() != 1) return usage_error("validate takes one campaign folder");
+      if (positional.size() != 1) return usage_error("validate takes one campaign folder", cmd);
       auto campaign = chatterlab::app::load_campaign(positional[0]);
       return chatterlab::app::validate_campaign(campaign, std::cout);
     }
     if (cmd == "report") {
       if (positional.size() != 1 || out.empty()) {
-        return usage_error("report takes one campaign folder and --out <dir>");
+        return usage_error("report takes one campaign folder and --out <dir>", cmd);
       }
       return chatterlab::app::run_report(positional[0], out, report_options, std::cout);
     }
     if (cmd == "simulate") {
       if (positional.size() != 1 || out.empty()) {
-        return usage_error("simulate takes one spec file and --out <dir>");
+        return usage_error("simulate takes one spec file and --out <dir>", cmd);
       }
       chatterlab::app::SimulateOptions so;
       so.pdf = report_options.pdf;
@@ -91,7 +70,7 @@ int main(int argc, char** argv) {
     }
     if (cmd == "synth") {
       if (positional.size() != 1 || out.empty()) {
-        return usage_error("synth takes one spec file and --out <campaign>");
+        return usage_error("synth takes one spec file and --out <campaign>", cmd);
       }
       const auto s = chatterlab::app::synthesize_campaign(positional[0], out);
       for (const auto& w : s.warnings) std::cerr << "chatterlab synth: warning: " << w << "\n";
@@ -108,5 +87,5 @@ int main(int argc, char** argv) {
     std::cerr << "chatterlab " << cmd << ": internal error: " << e.what() << "\n";
     return 3;
   }
-  return usage_error("unknown command '" + cmd + "'");
+  return usage_error("unknown command '" + cmd + "'", "");
 }

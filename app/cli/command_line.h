@@ -1,0 +1,34 @@
+// The command line of `chatterlab`: the commands, the options each accepts, and their usage
+// text (`chatterlab <command> --help`). An option a command does not take is an error naming
+// both, not a silent no-op.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace chatterlab::app {
+
+struct CommandLine {
+  std::string command;  // report | validate | simulate | synth; empty for --help / --version
+  std::vector<std::string> positional;
+  std::string out;            // --out
+  bool pdf = true;            // --no-pdf
+  bool results_only = false;  // --results-only
+  int jobs = 0;               // --jobs N (0: one thread per hardware thread)
+  bool help = false;          // --help / -h: the usage of `command` (or of every command)
+  bool version = false;       // --version
+};
+
+struct ParsedCommandLine {
+  CommandLine line;
+  std::string error;  // empty when the line is valid; else what is wrong, naming the option
+};
+
+// The arguments after the program name.
+ParsedCommandLine parse_command_line(const std::vector<std::string>& args);
+
+// The usage of one command ("" for an unknown one), or of every command when `command` is
+// empty.
+std::string command_usage(const std::string& command);
+
+}  // namespace chatterlab::app

@@ -1,0 +1,60 @@
+// The command line: each command takes only its own options (an option of another command is
+// an error naming both), `<command> --help` prints that command's usage, and values are checked.
+#include "app/cli/command_line.h"
+
+#include <gtest/gtest.h>
+
+namespace chatterlab::app {
+namespace {
+
+ParsedCommandLine parse(const std::vector<std::string>& args) { return parse_command_line(args); }
+
+TEST(CommandLine, ReadsEachCommandsOptions) {
+  const auto r = parse({"report", "camp", "--out", "rep", "--no-pdf", "--jobs", "3"});
+  EXPECT_EQ(r.error, "");
+  EXPECT_EQ(r.line.command, "report");
+  EXPECT_EQ(r.line.positional, std::vector<std::string>{"camp"});
+  EXPECT_EQ(r.line.out, "rep");
+  EXPECT_FALSE(r.line.pdf);
+  EXPECT_EQ(r.line.jobs, 3);
+  const auto s = parse({"simulate", "spec.yaml", "--results-only", "--out", "o"});
+  EXPECT_EQ(s.error, "");
+  EXPECT_TRUE(s.line.results_only);
+}
+
+TEST(CommandLine, OptionsOfOtherCommandsAndUnknownOptionsAreErrors) {
+  EXPECT_EQ(parse({"validate", "camp", "--no-pdf"}).error,
+            "option '--no-pdf' does not apply to validate");
+  EXPECT_EQ(parse({"report", "camp", "--out", "r", "--results-only"}).error,
+            "option '--results-only' does not apply to report");
+  EXPECT_EQ(parse({"synth", "s.yaml", "--out", "c", "--jobs", "2"}).error,
+            "option '--jobs' does not apply to synth");
+  EXPECT_EQ(parse({"report", "camp", "--outt", "r"}).error, "unknown option '--outt'");
+  EXPECT_EQ(parse({"report", "camp", "--out"}).error, "option '--out' needs a value");
+  EXPECT_EQ(parse({"report", "camp", "--jobs", "two"}).error,
+            "--jobs takes a whole number >= 0, got 'two'");
+  EXPECT_EQ(parse({"report", "camp", "--jobs", "-1"}).error,
+            "--jobs takes a whole number >= 0, got '-1'");
+  EXPECT_EQ(parse({"lobes", "spec.yaml"}).error, "unknown command 'lobes'");
+  EXPECT_EQ(parse({}).error, "no command");
+}
+
+TEST(CommandLine, HelpPerCommand) {
+  const auto r = parse({"simulate", "--help"});
+  EXPECT_EQ(r.error, "");
+  EXPECT_TRUE(r.line.help);
+  EXPECT_EQ(r.line.command, "simulate");
+  const std::string u = command_usage("simulate");
+  EXPECT_EQ(u.rfind("usage: chatterlab simulate <spec.yaml> --out <dir>", 0), 0u) << u;
+  EXPECT_NE(u.find("--results-only"), std::string::npos);
+  EXPECT_EQ(command_usage("validate").find("--no-pdf"), std::string::npos);
+  EXPECT_TRUE(parse({"-h"}).line.help);
+  EXPECT_EQ(command_usage("nope"), "");
+  const std::string all = command_usage("");
+  for (const char* c : {"report", "validate", "simulate", "synth"}) {
+    EXPECT_NE(all.find(std::string("chatterlab ") + c), std::string::npos) << c;
+  }
+}
+
+}  // namespace
+}  // namespace chatterlab::app
