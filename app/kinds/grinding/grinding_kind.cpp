@@ -539,6 +539,20 @@ std::string grinding_trajectory_path(const std::string& test_id, const std::stri
   return (test_id.empty() ? std::string() : test_id + "/") + estimator + ".csv";
 }
 
+std::pair<double, int> prior_vs_inspection(const g::GrindingRun& run,
+                                           const std::vector<g::Inspection>& ins) {
+  double sum = 0;
+  int n = 0;
+  for (const auto& i : ins) {
+    if (!std::isfinite(i.ds_mm)) continue;
+    const auto& c = run.per_cycle.at(static_cast<std::size_t>(i.cycle - 1));
+    const double e = (c.ds_prior_mm - i.ds_mm) * 1e3;
+    sum += e * e;
+    ++n;
+  }
+  return {n ? std::sqrt(sum / n) : std::nan(""), n};
+}
+
 namespace {
 
 json inspections_json(const std::vector<g::Inspection>& ins) {
@@ -560,19 +574,6 @@ json inspections_json(const std::vector<g::Inspection>& ins) {
 
 // The RMS of d_s prior minus the inspection's d_s over the inspected cycles (the wheel
 // diameter each estimator predicted before that cycle's end update); NaN without any.
-std::pair<double, int> prior_vs_inspection(const g::GrindingRun& run,
-                                           const std::vector<g::Inspection>& ins) {
-  double sum = 0;
-  int n = 0;
-  for (const auto& i : ins) {
-    if (!std::isfinite(i.ds_mm)) continue;
-    const auto& c = run.per_cycle.at(static_cast<std::size_t>(i.cycle - 1));
-    const double e = (c.ds_prior_mm - i.ds_mm) * 1e3;
-    sum += e * e;
-    ++n;
-  }
-  return {n ? std::sqrt(sum / n) : std::nan(""), n};
-}
 
 json estimator_json(const std::string& test_id, const GrindingResult& res,
                     const GrindingEstimatorResult& e, const g::GrindingEstimatorInfo& info) {

@@ -10,6 +10,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "analysis/grinding/grinding_model.h"
@@ -84,6 +85,12 @@ class GrindingKind : public TestKind {
                                               YamlReader& r) const override;
   int write_synth(const KindSpec& section, SynthContext& ctx) const override;
 };
+
+// RMS over the cycles with an inspected d_s of the a priori d_s at the cycle end minus that
+// d_s, in um, and the number of such cycles (NaN, 0 without any): results.json
+// `ds_prior_rms_error_vs_inspection_um` and the report's column.
+std::pair<double, int> prior_vs_inspection(const grinding::GrindingRun& run,
+                                           const std::vector<grinding::Inspection>& ins);
 
 // The inspections CSV of format section 7 (header cycle[,available_cycle],ds_mm,Ra_um,
 // roundness_um; empty or nan: not measured; no available_cycle column: on time). `label` names

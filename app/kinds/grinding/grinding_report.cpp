@@ -43,6 +43,18 @@ void add_banded(render::Axes& a, const std::vector<double>& x, const std::vector
   a.series.emplace_back(x, hi, "", render::SeriesStyle::kDashedLine, colour);
 }
 
+// The inspections that measured `field` (d_s or R_a): cycles and values.
+std::pair<std::vector<double>, std::vector<double>> inspected(const GrindingResult& res,
+                                                              double g::Inspection::*field) {
+  std::pair<std::vector<double>, std::vector<double>> p;
+  for (const auto& i : res.inspections) {
+    if (!std::isfinite(i.*field)) continue;
+    p.first.push_back(i.cycle);
+    p.second.push_back(i.*field);
+  }
+  return p;
+}
+
 std::string value_or_na(double v, int digits) {
   return std::isfinite(v) ? fmt_sig(v, digits) : "n/a";
 }
@@ -85,12 +97,7 @@ render::Figure grinding_ds_figure(const GrindingResult& res) {
       fig.panels[1].series.emplace_back(x, s3, name, render::SeriesStyle::kLinePoints, kColours[k]);
     }
   }
-  std::vector<double> ix, iy;
-  for (const auto& i : res.inspections) {
-    if (!std::isfinite(i.ds_mm)) continue;
-    ix.push_back(i.cycle);
-    iy.push_back(i.ds_mm);
-  }
+  const auto [ix, iy] = inspected(res, &g::Inspection::ds_mm);
   if (!ix.empty()) {
     fig.panels[0].series.emplace_back(ix, iy, "inspection", render::SeriesStyle::kPoints,
                                       "#000000");
@@ -126,12 +133,7 @@ render::Figure grinding_r0_figure(const GrindingResult& res) {
     fig.panels[1].series.emplace_back(x, ra, std::string(info.name) + " predicted",
                                       render::SeriesStyle::kLinePoints, kColours[k]);
   }
-  std::vector<double> ix, iy;
-  for (const auto& i : res.inspections) {
-    if (!std::isfinite(i.Ra_um)) continue;
-    ix.push_back(i.cycle);
-    iy.push_back(i.Ra_um);
-  }
+  const auto [ix, iy] = inspected(res, &g::Inspection::Ra_um);
   if (!ix.empty()) {
     fig.panels[1].series.emplace_back(ix, iy, "measured", render::SeriesStyle::kPoints, "#000000");
   }
@@ -251,16 +253,8 @@ json GrindingKind::report_section(const CampaignResults&, const std::vector<cons
       const auto& last = e.run.per_cycle.back().posterior;
       row["ds_mm"] = fmt_fixed(last.x[g::kDs], 5);
       row["ds_3sigma_um"] = fmt_sig(last.three_sigma[g::kDs] * 1e3, 3);
-      double rms = 0;
-      int n = 0;
-      for (const auto& i : res.inspections) {
-        if (!std::isfinite(i.ds_mm)) continue;
-        const double d =
-            (e.run.per_cycle.at(static_cast<std::size_t>(i.cycle - 1)).ds_prior_mm - i.ds_mm) * 1e3;
-        rms += d * d;
-        ++n;
-      }
-      row["ds_rms_insp_um"] = n ? fmt_sig(std::sqrt(rms / n), 3) : "n/a";
+      const auto [rms, n] = prior_vs_inspection(e.run, res.inspections);
+      row["ds_rms_insp_um"] = n ? fmt_sig(rms, 3) : "n/a";
       if (res.has_truth) {
         const Eigen::Index li = res.truth.rows() - 1;
         row["ds_err_truth_um"] = fmt_sig((last.x[g::kDs] - res.truth(li, g::kDs)) * 1e3, 3);
