@@ -132,7 +132,8 @@ struct TapMap {
   std::vector<double> rpm;
   std::vector<int> exponents;
   Eigen::MatrixXd rmse_n;          // rpm.size() x exponents.size()
-  std::vector<int> best_exponent;  // per speed
+  std::vector<int> best_exponent;  // per speed; a speed whose sweep fails (no harmonic in
+                                   // the band) has a NaN row and best_exponent -1
 };
 TapMap tap_map(const TapSweepInput& in, const std::vector<double>& rpm, int teeth, int jobs,
                const SweepOptions& options = {});
