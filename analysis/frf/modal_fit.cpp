@@ -6,6 +6,7 @@
 #include <cmath>
 #include <complex>
 #include <cstdio>
+#include <optional>
 #include <string>
 
 #include "analysis/common/constants.h"
@@ -86,9 +87,11 @@ struct Solved {
   std::vector<size_t> at_bounds;  // modes whose wn or zeta ended on a bound
 };
 
-// Levenberg-Marquardt from peak picking (modal_model.h gives the parameters).
+// Levenberg-Marquardt from peak picking (modal_model.h gives the parameters). With `warm`
+// (a converged fit of the same peaks less peaks[added]), every other mode and the residual
+// terms start where that fit ended; only peaks[added] starts from peak picking.
 Solved solve(const std::vector<FrfPeak>& peaks, const BandData& band, double df,
-             const ModalFitOptions& o) {
+             const ModalFitOptions& o, const Solved* warm = nullptr, int added = -1) {
   Solved s;
   const int n = static_cast<int>(peaks.size());
   s.model.wn0.resize(n);
@@ -105,11 +108,21 @@ Solved solve(const std::vector<FrfPeak>& peaks, const BandData& band, double df,
     s.model.wn0[i] = wn;
     s.model.zeta0[i] = zeta;
     s.model.a0[i] = sign * p.magnitude * 2.0 * zeta * wn * wn;
+    if (warm != nullptr && i != added) {
+      const int j = i < added ? i : i - 1;
+      s.model.wn0[i] = warm->model.wn(warm->theta.data(), j);
+      s.model.zeta0[i] = warm->model.zeta(warm->theta.data(), j);
+      s.model.a0[i] = warm->model.a(warm->theta.data(), j);
+    }
   }
   s.model.residual_scale = o.residual_terms ? band.scale : 0.0;
   s.model.w_ref = band.w_lo;
   s.theta.assign(static_cast<size_t>(s.model.parameters()), 0.0);
   for (int i = 0; i < n; ++i) s.theta[static_cast<size_t>(3 * i + 2)] = 1.0;
+  if (warm != nullptr && o.residual_terms) {
+    s.theta[static_cast<size_t>(3 * n)] = warm->theta[static_cast<size_t>(3 * (n - 1))];
+    s.theta[static_cast<size_t>(3 * n + 1)] = warm->theta[static_cast<size_t>(3 * (n - 1) + 1)];
+  }
 
   ceres::Problem problem;
   problem.AddResidualBlock(new ReceptanceCost(s.model, band.w, band.h, band.scale), nullptr,
@@ -147,6 +160,79 @@ Solved solve(const std::vector<FrfPeak>& peaks, const BandData& band, double df,
   return s;
 }
 
+// NRMSE fit (004 eq. 3.2) of a solved model over the band.
+double band_fit_pct(const Solved& s, const BandData& band) {
+  Eigen::VectorXcd model(band.w.size());
+  for (Eigen::Index k = 0; k < band.w.size(); ++k) {
+    model[k] = s.model.evaluate(s.theta.data(), band.w[k]);
+  }
+  return metrics::nrmse_fit_pct(band.h, model);
+}
+
+// The largest local maximum of |H - H_fit| in the band that could be a mode hidden in a
+// shoulder of a larger one: coherence >= min_coherence on its bin and two bins either side
+// (as for a peak of |H|), height >= floor, and more than 1.5 bins from every frequency in
+// `tried`. As an FrfPeak: parabolic frequency and height of |residual|, value = residual
+// (its imaginary part gives the sign of the modal constant), half-power bandwidth of
+// |residual| (the start value of zeta, floored at half a bin by solve). Empty when none.
+std::optional<FrfPeak> residual_peak(const Solved& s, const BandData& band, const Frf& frf,
+                                     double min_coherence, double floor,
+                                     const std::vector<double>& tried) {
+  const Eigen::Index n = band.w.size();
+  Eigen::VectorXcd r(n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    r[k] = band.h[k] - s.model.evaluate(s.theta.data(), band.w[k]);
+  }
+  const Eigen::VectorXd mag = r.cwiseAbs();
+  const Eigen::Index nb = frf.coherence.size();
+  Eigen::Index best = -1;
+  for (Eigen::Index k = 1; k + 1 < n; ++k) {
+    if (!(mag[k] > mag[k - 1] && mag[k] >= mag[k + 1]) || mag[k] < floor) continue;
+    if (best >= 0 && mag[k] <= mag[best]) continue;
+    const Eigen::Index bin = band.bins[static_cast<size_t>(k)];
+    const Eigen::Index c_from = std::max<Eigen::Index>(0, bin - 2);
+    const Eigen::Index c_to = std::min<Eigen::Index>(nb - 1, bin + 2);
+    if (frf.coherence.segment(c_from, c_to - c_from + 1).minCoeff() < min_coherence) continue;
+    const double f = frf.f_hz[bin];
+    if (std::any_of(tried.begin(), tried.end(),
+                    [&](double t) { return std::abs(t - f) < 1.5 * frf.df_hz; })) {
+      continue;
+    }
+    best = k;
+  }
+  if (best < 0) return std::nullopt;
+  const double ym = mag[best - 1];
+  const double y0 = mag[best];
+  const double yp = mag[best + 1];
+  const double curvature = ym - 2.0 * y0 + yp;
+  const double delta = curvature < 0.0 ? 0.5 * (ym - yp) / curvature : 0.0;
+  FrfPeak p;
+  p.bin = band.bins[static_cast<size_t>(best)];
+  p.f_hz = frf.f_hz[p.bin] + delta * frf.df_hz;
+  p.magnitude = y0 - 0.25 * (ym - yp) * delta;
+  p.value = r[best];
+  // Half-power bandwidth of the residual peak (linear interpolation; one side doubled when
+  // the other rises again first), as find_frf_peaks does for |H|.
+  const double level = p.magnitude / std::sqrt(2.0);
+  auto crossing = [&](int step) {
+    for (Eigen::Index i = best;;) {
+      const Eigen::Index j = i + step;
+      if (j < 0 || j >= n || mag[j] > mag[i]) return -1.0;
+      if (mag[j] <= level) {
+        const double past = static_cast<double>(i - best) +
+                            step * (mag[i] - level) / (mag[i] - mag[j]);  // bins from `best`
+        return std::abs(past - delta);  // bins from the parabolic peak
+      }
+      i = j;
+    }
+  };
+  const double lo = crossing(-1);
+  const double hi = crossing(+1);
+  const double bins = lo > 0.0 && hi > 0.0 ? lo + hi : 2.0 * std::max(lo, hi);
+  p.half_power_bw_hz = std::max(0.0, bins) * frf.df_hz;
+  return p;
+}
+
 void check_options(const ModalFitOptions& o) {
   auto require = [](bool ok, const std::string& what) {
     if (!ok) throw InputError("modal_fit." + what);
@@ -166,6 +252,13 @@ void check_options(const ModalFitOptions& o) {
   require(
       o.resolution_warning_bins >= 0.0,
       "resolution_warning_bins = " + std::to_string(o.resolution_warning_bins) + ": must be >= 0");
+  require(o.min_mode_gain_pct >= 0.0,
+          "min_mode_gain_pct = " + std::to_string(o.min_mode_gain_pct) + ": must be >= 0");
+  require(o.min_mode_spacing_bins >= 0.0,
+          "min_mode_spacing_bins = " + std::to_string(o.min_mode_spacing_bins) + ": must be >= 0");
+  require(o.max_rejected_residual_peaks >= 1,
+          "max_rejected_residual_peaks = " + std::to_string(o.max_rejected_residual_peaks) +
+              ": must be >= 1");
   require(o.max_iterations >= 1,
           "max_iterations = " + std::to_string(o.max_iterations) + ": must be >= 1");
 }
@@ -264,6 +357,59 @@ ModalFit fit_modes(const Frf& frf, const ModalFitOptions& o) {
     }
     s = solve(chosen, band, frf.df_hz, o);
   }
+  // Residual modes: a mode closely spaced to a larger one is a shoulder of |H|, not a peak;
+  // it shows as a peak of the residual. Added one at a time while each raises the fit.
+  std::vector<bool> from_residual(chosen.size(), false);
+  if (o.n_modes == 0 && o.residual_modes && s.converged && s.at_bounds.empty()) {
+    double largest = 0.0;
+    for (const FrfPeak& p : chosen) largest = std::max(largest, p.magnitude);
+    const double floor = largest * std::pow(10.0, -o.mode_floor_db / 20.0);
+    double fit_pct = band_fit_pct(s, band);
+    std::vector<double> tried;
+    std::string added;
+    for (int rejected = 0; rejected < o.max_rejected_residual_peaks &&
+                           static_cast<int>(chosen.size()) < o.max_modes &&
+                           100.0 - fit_pct >= o.min_mode_gain_pct &&
+                           n_band >= 3 * static_cast<Eigen::Index>(chosen.size() + 1) + 2;) {
+      const std::optional<FrfPeak> p = residual_peak(s, band, frf, o.min_coherence, floor, tried);
+      if (!p) break;
+      tried.push_back(frf.f_hz[p->bin]);
+      const auto at = std::upper_bound(chosen.begin(), chosen.end(), p->f_hz,
+                                       [](double f, const FrfPeak& q) { return f < q.f_hz; });
+      const auto pos = at - chosen.begin();
+      std::vector<FrfPeak> trial = chosen;
+      trial.insert(trial.begin() + pos, *p);
+      Solved t = solve(trial, band, frf.df_hz, o, &s, static_cast<int>(pos));
+      // Two modes closer than min_mode_spacing_bins are not resolved by the bins.
+      bool resolved = true;
+      for (int i = 0; i + 1 < t.model.modes(); ++i) {
+        for (int j = i + 1; j < t.model.modes(); ++j) {
+          resolved =
+              resolved && std::abs(t.model.wn(t.theta.data(), i) - t.model.wn(t.theta.data(), j)) >=
+                              kTwoPi * o.min_mode_spacing_bins * frf.df_hz;
+        }
+      }
+      const double trial_pct =
+          t.converged && t.at_bounds.empty() && resolved ? band_fit_pct(t, band) : -1e300;
+      if (trial_pct - fit_pct < o.min_mode_gain_pct) {
+        ++rejected;
+        continue;
+      }
+      added += (added.empty() ? "" : ", ") + fmt("%.6g", p->f_hz);
+      chosen = std::move(trial);
+      from_residual.insert(from_residual.begin() + pos, true);
+      s = std::move(t);
+      fit_pct = trial_pct;
+      rejected = 0;
+    }
+    if (!added.empty()) {
+      fit.summary.warnings.push_back(
+          "modes added from the fit's residual (shoulders of closely spaced modes, not peaks "
+          "of |H|) near " +
+          added + fmt(" Hz: each raised the fit by at least %g points", o.min_mode_gain_pct));
+    }
+  }
+
   fit.iterations = s.iterations;
   const int n_modes = s.model.modes();
   if (!s.converged) {
@@ -315,6 +461,7 @@ ModalFit fit_modes(const Frf& frf, const ModalFitOptions& o) {
               "[%g, %g]: treat it with suspicion",
               fn_fit, zeta_fit, kZetaMin, kZetaMax));
     }
+    q.from_residual = from_residual[static_cast<size_t>(i)];
     q.negative_constant = a < 0.0;
     const Mode m = mode_from_modal(pole.fn_hz, pole.zeta, 1.0 / std::abs(a));
     q.half_power_bins = 2.0 * m.zeta * m.fn_hz / frf.df_hz;

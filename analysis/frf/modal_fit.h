@@ -28,6 +28,14 @@ enum class FrfEstimator { kH1, kH2 };
 //    pushes onto a bound of its frequency (the band edges) or damping ratio ([1e-6, 0.5])
 //    is dropped with a warning and the fit repeated. n_modes > 0 takes the n largest
 //    candidates in the band, and nothing is dropped.
+//  Residual modes (automatic count, residual_modes): a mode closely spaced to a larger one
+//    shows as a shoulder, not as a local maximum of |H|, so peak picking cannot see it.
+//    After the fit, the largest local maximum of |H - H_fit| (coherence as for candidates,
+//    within mode_floor_db of the band's largest peak) becomes a candidate; it is kept if the
+//    refit (other modes starting where the last fit ended) converges with no mode on a
+//    bound, no two modes closer than min_mode_spacing_bins * df, and raises the fit by at least
+//    min_mode_gain_pct points. Repeated until max_modes, or max_rejected_residual_peaks
+//    candidates in a row are rejected.
 //  Fit: Ceres Levenberg-Marquardt on the complex receptance over the band, model and
 //    parameters in modal_model.h, started from peak picking (parabolic peak frequency,
 //    half-power bandwidth with a floor of half a bin, modal constant from the peak height).
@@ -44,6 +52,10 @@ struct ModalFitOptions {
   double band_dominance_db = 20.0;       // dominant peaks: within 10x of the largest
   double mode_floor_db = 40.0;           // fitted peaks: within 100x of the largest in band
   int max_modes = 20;                    // automatic count: at most this many modes in one fit
+  bool residual_modes = true;            // automatic count: add modes found in the fit's residual
+  double min_mode_gain_pct = 0.5;        // a residual mode must raise the fit by this many points
+  int max_rejected_residual_peaks = 3;   // stop after this many rejected residual peaks in a row
+  double min_mode_spacing_bins = 2.0;    // a residual mode's fit keeps all modes this far apart
   double resolution_warning_bins = 4.0;  // 4 bins across the half-power band
   int max_iterations = 200;              // Levenberg-Marquardt iterations
 };
@@ -55,6 +67,7 @@ struct ModeQuality {
   double half_power_bins = 0.0;    // 2 zeta fn / df
   bool negative_constant = false;  // A < 0: not a driving-point FRF (m, c, k use |A|)
   bool at_bound = false;           // the fit ended on a bound of wn or zeta
+  bool from_residual = false;      // found in the residual of a fit (a shoulder), not as a peak
 };
 
 struct ModalFit {

@@ -198,6 +198,33 @@ TEST(ModalFitChain, GivenBandAndModeCount) {
   EXPECT_GT(c.fit.upper_residual_m_n, 0.0);
 }
 
+TEST(ModalFitChain, ShoulderModeIsFoundInTheResidual) {
+  // A mode 15 % above the tool mode and 6 times heavier shows only as a shoulder of the tool's
+  // peak (no local maximum of |H|): peak picking alone sees one mode. The fit's residual
+  // peaks there, and the residual-mode step adds it (docs/tap-tests.md, sec. 4).
+  const Mode shoulder = mode_from_modal(1025.0, 0.04, 0.2);
+  ModalFitOptions peaks_only;
+  peaks_only.residual_modes = false;
+  const Chain one = run_chain({kTool, shoulder}, ResponseKind::kAcceleration, 23, {}, peaks_only);
+  ASSERT_TRUE(one.fit.summary.ok()) << one.fit.summary.message;
+  std::printf("peaks only: %zu modes, fit %.2f %%\n", one.fit.modes.size(), one.fit.fit_nrmse_pct);
+  ASSERT_EQ(one.fit.modes.size(), 1u);
+
+  const ModalFit both = fit_modes(one.frf);
+  ASSERT_TRUE(both.summary.ok()) << both.summary.message;
+  std::printf("with residual modes: %zu modes, fit %.2f %%\n", both.modes.size(),
+              both.fit_nrmse_pct);
+  ASSERT_EQ(both.modes.size(), 2u);
+  expect_mode("tool beside a shoulder", both.modes[0], kTool);
+  expect_mode("shoulder", both.modes[1], shoulder);
+  EXPECT_FALSE(both.quality[0].from_residual);
+  EXPECT_TRUE(both.quality[1].from_residual);
+  EXPECT_GT(both.fit_nrmse_pct, 99.0);
+  EXPECT_GT(both.fit_nrmse_pct, one.fit.fit_nrmse_pct + 0.5);
+  EXPECT_THAT(both.summary.warnings,
+              ::testing::Contains(HasSubstr("modes added from the fit's residual")));
+}
+
 TEST(ModalFitChain, FailuresSayWhy) {
   ModalFitOptions too_many;
   too_many.n_modes = 3;

@@ -130,9 +130,23 @@ TEST_F(RealTap, FiveHitsOneFrfAndAFitThatFollowsIt) {
   }
   for (const std::string& w : fit.summary.warnings) std::printf("warning: %s\n", w.c_str());
 
-  // Lightly damped modes and several unfitted small ones: a linear modal model follows the
-  // measured receptance to 89 % (004 eq. 3.2); 85 % leaves room for numerical detail.
-  EXPECT_GT(fit.fit_nrmse_pct, 85.0);
+  // Peak picking alone finds 9 modes and fits 89.1 % (004 eq. 3.2): closely spaced modes
+  // that are shoulders of larger peaks, not peaks of |H|, were missing. With the modes found
+  // in the fit's residual (906, 3665, 4091, 4167 Hz) the fit is 94.5 %, the same as an
+  // independent least-squares fit of the same 13-mode model (94.53 %); 93 % leaves room for
+  // numerical detail and fails with the 9 peak-picked modes.
+  EXPECT_GT(fit.fit_nrmse_pct, 93.0);
+  for (double shoulder_hz : {906.1, 3664.9}) {
+    const auto it = std::find_if(fit.modes.begin(), fit.modes.end(), [&](const Mode& m) {
+      return std::abs(m.fn_hz - shoulder_hz) < frf.df_hz;
+    });
+    ASSERT_NE(it, fit.modes.end()) << "no fitted mode within a bin of " << shoulder_hz << " Hz";
+    EXPECT_TRUE(fit.quality[static_cast<size_t>(it - fit.modes.begin())].from_residual);
+  }
+  // No two fitted modes closer than 2 bins (what the bins can tell apart).
+  for (size_t i = 0; i + 1 < fit.modes.size(); ++i) {
+    EXPECT_GE(fit.modes[i + 1].fn_hz - fit.modes[i].fn_hz, 2.0 * frf.df_hz);
+  }
   for (double f : main_hz) {
     EXPECT_GT(f, fit.band_lo_hz);
     EXPECT_LT(f, fit.band_hi_hz);
