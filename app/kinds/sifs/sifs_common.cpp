@@ -1,0 +1,95 @@
+#include "app/kinds/sifs/sifs_common.h"
+
+#include <cmath>
+
+#include "analysis/signal/resample.h"
+#include "app/core/format.h"
+#include "app/kinds/sifs/sifs_kinds.h"
+
+namespace chatterlab::app {
+
+std::string sifs_signal_label(const TestSpec& t) {
+  return (t.id.empty() ? "" : t.id + "/") + t.data.relative_file;
+}
+
+sifs::Axis read_sifs_axis(const YAML::Node& root, YamlReader& r, bool allow_z) {
+  const std::string a = r.required_string(root, "axis");
+  if (a == "x") return sifs::Axis::kX;
+  if (a == "y") return sifs::Axis::kY;
+  if (a == "z" && allow_z) return sifs::Axis::kZ;
+  if (!a.empty())
+    r.error("axis",
+            std::string("must be x") + (allow_z ? ", y or z" : " or y") + ", not '" + a + "'");
+  return sifs::Axis::kX;
+}
+
+std::optional<std::pair<double, double>> read_interval(const YAML::Node& root, YamlReader& r,
+                                                       const std::string& key, bool required) {
+  if (!root[key]) {
+    if (required) r.error(key, "is required: [start, end]");
+    return std::nullopt;
+  }
+  const auto p = r.optional_pair(root, key);
+  if (!p) return std::nullopt;
+  if (!(p->first >= 0 && p->second > p->first)) {
+    r.error(key, "must be [start, end] with 0 <= start < end, not [" + fmt_sig(p->first, 6) + ", " +
+                     fmt_sig(p->second, 6) + "]");
+    return std::nullopt;
+  }
+  return p;
+}
+
+sifs::Washers read_washers(const SignalTable& table, const TestSpec& t) {
+  sifs::Washers w(static_cast<Eigen::Index>(table.samples()), 6);
+  for (int i = 0; i < 6; ++i) {
+    const std::string& n = kWasherChannels[static_cast<std::size_t>(i)];
+    w.col(i) = table.channel(n, t.channel(n));
+  }
+  return w;
+}
+
+std::optional<std::string> window_outside(const TestSpec& t, const std::string& key, double hi,
+                                          double duration_s) {
+  if (hi <= duration_s * 1.0001) return std::nullopt;
+  return t.yaml_label + ": key '" + key + "' ends at " + fmt_sig(hi, 6) + " s, after the record (" +
+         fmt_sig(duration_s, 6) + " s)";
+}
+
+sifs::TapSweepInput tap_sweep_input(const SifsTapData& tap, double filter_rate_hz,
+                                    double band_lo_hz, double band_hi_hz, sifs::GainMode gain) {
+  sifs::TapSweepInput in;
+  in.modes = &tap.modes;
+  in.filter_rate_hz = filter_rate_hz;
+  in.r_tap_n = tap.r_tap_n;
+  in.band_lo_hz = band_lo_hz;
+  in.band_hi_hz = band_hi_hz;
+  in.gain = gain;
+  const double ratio = filter_rate_hz / tap.fs_hz;
+  if (std::abs(ratio - 1.0) < 1e-12) {
+    in.hammer_n = tap.hammer_n;
+    in.response_n = tap.response_n;
+  } else {
+    const signal::RationalResampler rs(tap.fs_hz, filter_rate_hz);
+    in.hammer_n = rs.apply(tap.hammer_n);
+    in.response_n = rs.apply(tap.response_n);
+  }
+  const Eigen::Index n = in.hammer_n.size();
+  Eigen::Index len = -1;
+  for (const auto& w : tap.windows) {
+    const Eigen::Index l = static_cast<Eigen::Index>(std::floor((w.end - w.begin) * ratio));
+    len = len < 0 ? l : std::min(len, l);
+  }
+  const Eigen::Index guard = static_cast<Eigen::Index>(std::ceil(1e-3 * filter_rate_hz));
+  for (std::size_t i = 0; i < tap.windows.size(); ++i) {
+    const Eigen::Index b =
+        static_cast<Eigen::Index>(std::llround(static_cast<double>(tap.windows[i].begin) * ratio));
+    const Eigen::Index e = std::min(b + len, n);
+    in.windows.push_back({b, e});
+    const Eigen::Index impact =
+        static_cast<Eigen::Index>(std::llround(static_cast<double>(tap.impact[i]) * ratio));
+    in.pre_end.push_back(std::max<Eigen::Index>(1, impact - guard - b));
+  }
+  return in;
+}
+
+}  // namespace chatterlab::app

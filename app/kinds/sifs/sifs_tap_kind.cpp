@@ -1,0 +1,366 @@
+// Kind `sifs-tap` (format section 6, 003 sec. 4.2.1): see sifs_kinds.h and docs/sifs.md.
+#include <cmath>
+#include <complex>
+
+#include "app/core/format.h"
+#include "app/kinds/sifs/sifs_common.h"
+#include "app/kinds/sifs/sifs_kinds.h"
+#include "app/report/figure_jobs.h"
+#include "app/report/results_json.h"
+#include "app/report/truth.h"
+
+namespace chatterlab::app {
+
+using nlohmann::json;
+
+namespace {
+
+constexpr double kRadToDeg = 57.29577951308232;
+
+// Lowest f > 0 on a 1 Hz grid up to nyquist_hz with | |G| - 1 | >= 0.1 (format step 7,
+// "before"); nyquist_hz when there is none.
+double bandwidth_before(const std::vector<sifs::SensorMode>& modes, double nyquist_hz) {
+  for (double f = 1.0; f <= nyquist_hz; f += 1.0) {
+    if (std::abs(std::abs(sifs::sensor_response(modes, f)) - 1.0) >= 0.1) return f;
+  }
+  return nyquist_hz;
+}
+
+// Local minima of |G| strictly between the lowest and highest natural frequency (1 Hz grid).
+Eigen::VectorXd antiresonances(const std::vector<sifs::SensorMode>& modes) {
+  std::vector<double> out;
+  if (modes.size() < 2) return Eigen::VectorXd();
+  const double lo = modes.front().fn_hz, hi = modes.back().fn_hz;
+  double prev2 = std::abs(sifs::sensor_response(modes, lo));
+  double prev = std::abs(sifs::sensor_response(modes, lo + 1.0));
+  for (double f = lo + 2.0; f <= hi; f += 1.0) {
+    const double g = std::abs(sifs::sensor_response(modes, f));
+    if (prev < prev2 && prev <= g) out.push_back(f - 1.0);
+    prev2 = prev;
+    prev = g;
+  }
+  return Eigen::Map<const Eigen::VectorXd>(out.data(), static_cast<Eigen::Index>(out.size()));
+}
+
+std::vector<double> to_vector(const Eigen::VectorXd& v) {
+  return std::vector<double>(v.data(), v.data() + v.size());
+}
+
+}  // namespace
+
+std::vector<std::string> SifsTapKind::keys() const { return {"axis", "hits", "band_hz", "modes"}; }
+
+std::shared_ptr<const KindSpec> SifsTapKind::parse(const YAML::Node& root, YamlReader& r) const {
+  auto s = std::make_shared<SifsTapSpec>();
+  s->axis = read_sifs_axis(root, r, false);
+  const YAML::Node hits = root["hits"];
+  if (!hits) {
+    r.error("hits", "is required: a list of [start_s, end_s] windows, or auto");
+  } else if (hits.IsScalar() && hits.as<std::string>() == "auto") {
+    s->auto_hits = true;
+  } else if (!hits.IsSequence() || hits.size() == 0) {
+    r.error("hits", "must be a list of [start_s, end_s] windows, or auto");
+  } else {
+    for (std::size_t i = 0; i < hits.size(); ++i) {
+      const std::string key = "hits[" + std::to_string(i) + "]";
+      try {
+        const YAML::Node w = hits[i];
+        if (!w.IsSequence() || w.size() != 2) throw YAML::Exception(YAML::Mark::null_mark(), "");
+        const double a = w[0].as<double>(), b = w[1].as<double>();
+        if (!(a >= 0 && b > a)) {
+          r.error(key, "must be [start_s, end_s] with 0 <= start_s < end_s");
+          continue;
+        }
+        s->hits_s.emplace_back(a, b);
+      } catch (const YAML::Exception&) {
+        r.error(key, "must be [start_s, end_s], two numbers");
+      }
+    }
+  }
+  if (auto band = read_interval(root, r, "band_hz", true)) {
+    s->band_lo_hz = band->first;
+    s->band_hi_hz = band->second;
+  }
+  if (auto m = r.optional_double(root, "modes")) {
+    if (*m < 1 || *m > 12 || std::floor(*m) != *m) {
+      r.error("modes", "must be a whole number from 1 to 12");
+    } else {
+      s->modes = static_cast<int>(*m);
+    }
+  }
+  return s;
+}
+
+std::vector<std::string> SifsTapKind::required_channels(const TestSpec&) const {
+  std::vector<std::string> c{"hammer"};
+  c.insert(c.end(), kWasherChannels.begin(), kWasherChannels.end());
+  return c;
+}
+
+std::vector<std::string> SifsTapKind::check_record(const TestSpec& t, double duration_s) const {
+  const auto& s = t.kind_spec<SifsTapSpec>();
+  std::vector<std::string> e;
+  for (std::size_t i = 0; i < s.hits_s.size(); ++i) {
+    if (auto m =
+            window_outside(t, "hits[" + std::to_string(i) + "]", s.hits_s[i].second, duration_s)) {
+      e.push_back(*m);
+    }
+  }
+  if (s.band_hi_hz > 0.5 * t.sample_rate_hz) {
+    e.push_back(t.yaml_label + ": key 'band_hz' ends at " + fmt_sig(s.band_hi_hz, 6) +
+                " Hz, above the Nyquist frequency (" + fmt_sig(0.5 * t.sample_rate_hz, 6) + " Hz)");
+  }
+  return e;
+}
+
+std::vector<Need> SifsTapKind::needs(const TestSpec&) const {
+  return {{value::kSifsCalibration, true}};
+}
+
+std::vector<std::string> SifsTapKind::provides(const TestSpec& t) const {
+  return {value::sifs_tap(t.id)};
+}
+
+std::string SifsTapKind::describe_value(const std::string& name) const {
+  if (name.rfind("sifs-tap:", 0) == 0) return "the sensor model of " + name.substr(9);
+  return "";
+}
+
+void SifsTapKind::run(const TestSpec& t, const CampaignValues& in, const RunContext&,
+                      TestOutcome& out) const {
+  const auto& s = t.kind_spec<SifsTapSpec>();
+  const SifsCalibration* cal = in.first<SifsCalibration>(value::kSifsCalibration);
+  if (!cal) {
+    out.status.fail(in.why_missing(value::kSifsCalibration, "the sensor's calibration matrix"));
+    out.failure = Failure::kInput;
+    return;
+  }
+  const SignalTable table = SignalTable::open(t.data, sifs_signal_label(t));
+  const sifs::Washers w = read_washers(table, t);
+  const sifs::Pairs p = sifs::pair_signals(w);
+  const int k = static_cast<int>(s.axis);
+  auto data = std::make_shared<SifsTapData>();
+  data->id = t.id;
+  data->axis = s.axis;
+  data->fs_hz = t.sample_rate_hz;
+  data->hammer_n = table.channel("hammer", t.channel("hammer"));
+  data->response_n = p * cal->C.row(k).transpose();
+  const double fs = t.sample_rate_hz;
+  if (s.auto_hits) {
+    try {
+      data->windows = sifs::auto_tap_windows(data->hammer_n, fs);
+    } catch (const InputError& e) {
+      throw InputError(sifs_signal_label(t) + ": hits: auto: " + e.what());
+    }
+  } else {
+    // Equal lengths: the shortest window's sample count for all (they differ at most by
+    // rounding).
+    Eigen::Index len = -1;
+    for (const auto& h : s.hits_s) {
+      const Eigen::Index n = static_cast<Eigen::Index>(std::llround((h.second - h.first) * fs));
+      len = len < 0 ? n : std::min(len, n);
+    }
+    for (std::size_t i = 0; i < s.hits_s.size(); ++i) {
+      const Eigen::Index b = static_cast<Eigen::Index>(std::llround(s.hits_s[i].first * fs));
+      const Eigen::Index n =
+          static_cast<Eigen::Index>(std::llround((s.hits_s[i].second - s.hits_s[i].first) * fs));
+      if (n > len + 1) {
+        throw InputError(t.yaml_label + ": key 'hits[" + std::to_string(i) +
+                         "]': the windows must have equal lengths (this one is " +
+                         fmt_sig(static_cast<double>(n) / fs, 6) + " s, the shortest " +
+                         fmt_sig(static_cast<double>(len) / fs, 6) + " s)");
+      }
+      data->windows.push_back({b, std::min<Eigen::Index>(b + len, data->hammer_n.size())});
+    }
+  }
+  auto res = std::make_unique<SifsTapResult>();
+  try {
+    res->frf = sifs::tap_frf(data->hammer_n, data->response_n, fs, data->windows);
+  } catch (const InputError& e) {
+    throw InputError(t.yaml_label + ": " + e.what());
+  }
+  if (!res->frf.summary.ok()) {
+    out.status.fail(sifs_signal_label(t) + ": " + res->frf.summary.message);
+    return;
+  }
+  data->impact = res->frf.impact;
+  data->r_tap_n = res->frf.r_tap_n;
+  sifs::SensorFitOptions fo;
+  fo.modes = s.modes;
+  fo.band_lo_hz = s.band_lo_hz;
+  fo.band_hi_hz = s.band_hi_hz;
+  res->model = sifs::fit_sensor_model(res->frf, fo);
+  out.warnings.insert(out.warnings.end(), res->model.summary.warnings.begin(),
+                      res->model.summary.warnings.end());
+  if (!res->model.summary.ok()) {
+    out.status.fail(sifs_signal_label(t) + ": modal fit: " + res->model.summary.message);
+    return;
+  }
+  data->modes = res->model.modes;
+  res->realization = sifs::realize_scaled_modal(res->model.modes);
+  res->obsv_rcond =
+      sifs::discrete_observability_rcond(res->realization.A, res->realization.C, 1.0 / fs);
+  res->confidence = sifs::frf_confidence(res->frf);
+  res->bandwidth_before_hz = bandwidth_before(res->model.modes, 0.5 * fs);
+  res->antiresonances_hz = antiresonances(res->model.modes);
+  if (res->frf.hits < 2) {
+    out.warnings.push_back(
+        "one hit: the coherence is 1 by construction and the FRF confidence bounds are zero");
+  }
+  res->data = std::move(data);
+  out.result = std::move(res);
+  out.status.succeed();
+}
+
+void SifsTapKind::publish(const TestOutcome& out, CampaignValues& values) const {
+  values.put(value::sifs_tap(out.spec->id), out.spec->id, out.result_of<SifsTapResult>().data);
+}
+
+json SifsTapKind::results(const TestOutcome& out) const {
+  const auto& r = out.result_of<SifsTapResult>();
+  const auto& s = out.spec->kind_spec<SifsTapSpec>();
+  json modes = json::array();
+  for (const auto& m : r.model.modes) {
+    modes.push_back({{"fn_hz", m.fn_hz}, {"zeta", m.zeta}, {"alpha", m.alpha}});
+  }
+  return {{"axis", sifs::to_string(s.axis)},
+          {"hits", r.frf.hits},
+          {"band_hz", {s.band_lo_hz, s.band_hi_hz}},
+          {"modes", modes},
+          {"static_gain", r.model.static_gain},
+          {"fit_nrmse_pct", r.model.fit_nrmse_pct},
+          {"realization", "scaled-modal"},
+          {"cond_A", r.realization.cond_A},
+          {"obsv_rcond", r.obsv_rcond},
+          {"r_N", r.frf.r_tap_n},
+          {"bandwidth_before_hz", r.bandwidth_before_hz},
+          {"antiresonances_hz", to_vector(r.antiresonances_hz)}};
+}
+
+json SifsTapKind::settings(const CampaignSpec&) const {
+  const sifs::TapOptions o;
+  return {{"impact_fraction", o.impact_fraction},
+          {"pre_impact_guard_s", o.pre_impact_guard_s},
+          {"min_pre_impact_s", o.min_pre_impact_s},
+          {"fit", "Levenberg-Marquardt on the complex H1, sqrt(coherence) weights, sum alpha = 1"},
+          {"confidence", "003 eqs 6-3, 6-4 (phase in rad, B&P), bands at 2 sigma"}};
+}
+
+std::string SifsTapKind::note(const TestOutcome& out) const {
+  const auto& r = out.result_of<SifsTapResult>();
+  return std::to_string(r.frf.hits) + " hits, " + std::to_string(r.model.modes.size()) +
+         " modes, fit " + fmt_sig(r.model.fit_nrmse_pct, 3) + " %";
+}
+
+render::Figure sifs_tap_figure(const SifsTapResult& t) {
+  const auto& f = t.frf;
+  std::vector<double> x, mag, fit, lo, hi, ph, phfit, coh;
+  for (Eigen::Index i = 0; i < f.f_hz.size(); ++i) {
+    const double fr = f.f_hz(i);
+    if (fr > t.data->fs_hz * 0.45) break;
+    const std::complex<double> g = sifs::sensor_response(t.model.modes, fr);
+    x.push_back(fr);
+    mag.push_back(std::abs(f.h1(i)));
+    fit.push_back(std::abs(g));
+    const double sm = t.confidence.magnitude_sigma.size() > i ? t.confidence.magnitude_sigma(i) : 0;
+    lo.push_back(std::abs(f.h1(i)) - 2 * sm);
+    hi.push_back(std::abs(f.h1(i)) + 2 * sm);
+    ph.push_back(std::arg(f.h1(i)) * kRadToDeg);
+    phfit.push_back(std::arg(g) * kRadToDeg);
+    coh.push_back(f.coherence(i));
+  }
+  render::Figure fig;
+  fig.height_in = 5.0;
+  fig.share_x = true;
+  render::Axes& m = fig.panels.emplace_back();
+  m.y_label = "|G| [N/N]";
+  m.log_y = true;
+  m.relative_height = 2;
+  m.series = {{x, mag, "H1 (taps)", render::SeriesStyle::kLine, "#0072B2"},
+              {x, fit, "fit, eq. 4-27", render::SeriesStyle::kDashedLine, "#D55E00"},
+              {x, lo, "H1 +- 2 sigma (eq. 6-3)", render::SeriesStyle::kDashedLine, "#56B4E9"},
+              {x, hi, "", render::SeriesStyle::kDashedLine, "#56B4E9"}};
+  render::Axes& p = fig.panels.emplace_back();
+  p.y_label = "phase [deg]";
+  p.series = {{x, ph, "", render::SeriesStyle::kLine, "#0072B2"},
+              {x, phfit, "", render::SeriesStyle::kDashedLine, "#D55E00"}};
+  render::Axes& c = fig.panels.emplace_back();
+  c.x_label = "frequency [Hz]";
+  c.y_label = "coherence";
+  c.y_range = render::Range{0, 1.05};
+  c.series = {{x, coh, "", render::SeriesStyle::kLine, "#009E73"}};
+  return fig;
+}
+
+void SifsTapKind::figures(const CampaignResults&, const TestOutcome& out, FigureJobs& jobs) const {
+  jobs.add(out.spec->id, "frf", figure_stem("sifs-tap", out.spec->id) + "frf",
+           sifs_tap_figure(out.result_of<SifsTapResult>()));
+}
+
+json SifsTapKind::report_section(const CampaignResults&, const std::vector<const TestOutcome*>& ok,
+                                 const FigureSet& figures) const {
+  if (ok.empty()) return nullptr;
+  json tests = json::array();
+  for (const TestOutcome* t : ok) {
+    const auto& r = t->result_of<SifsTapResult>();
+    json j;
+    j["id"] = t->spec->id;
+    j["axis"] = sifs::to_string(r.data->axis);
+    j["hits"] = r.frf.hits;
+    json modes = json::array();
+    int i = 1;
+    for (const auto& m : r.model.modes) {
+      modes.push_back({{"n", i++},
+                       {"fn_hz", fmt_sig(m.fn_hz, 4)},
+                       {"zeta_pct", fmt_sig(m.zeta * 100, 3)},
+                       {"alpha", fmt_sig(m.alpha, 3)}});
+    }
+    j["modes"] = modes;
+    j["static_gain"] = fmt_sig(r.model.static_gain, 4);
+    j["fit_nrmse_pct"] = fmt_sig(r.model.fit_nrmse_pct, 3);
+    j["cond_A"] = fmt_sig(r.realization.cond_A, 3);
+    j["obsv_rcond"] = fmt_sig(r.obsv_rcond, 3);
+    j["r_N"] = fmt_sig(r.frf.r_tap_n, 3);
+    j["bandwidth_before_hz"] = fmt_sig(r.bandwidth_before_hz, 4);
+    std::string anti;
+    for (Eigen::Index a = 0; a < r.antiresonances_hz.size(); ++a) {
+      anti += (anti.empty() ? "" : ", ") + fmt_sig(r.antiresonances_hz(a), 4);
+    }
+    j["antiresonances"] = anti.empty() ? std::string("none") : anti + " Hz";
+    j["figure"] = figures.of(t->spec->id, "frf");
+    j["has_warnings"] = !t->warnings.empty();
+    j["warnings"] = t->warnings;
+    tests.push_back(j);
+  }
+  return {{"toc", json::array({{{"anchor", "sifs-tap"}, {"title", "Spindle sensor: tap tests"}}})},
+          {"sifs_taps", tests}};
+}
+
+void SifsTapKind::compare_truth(const TruthInput& in, const TestOutcome& out,
+                                TruthComparison& c) const {
+  const auto& r = out.result_of<SifsTapResult>();
+  const YAML::Node& v = *in.entry;
+  const std::string& id = out.spec->id;
+  const YAML::Node modes = v["modes"];
+  if (modes && modes.IsSequence()) {
+    // Truth modes matched to fitted ones by nearest natural frequency.
+    for (std::size_t i = 0; i < modes.size(); ++i) {
+      const double fn = truth_number(modes[i], "fn_hz");
+      if (!std::isfinite(fn) || r.model.modes.empty()) continue;
+      const sifs::SensorMode* best = &r.model.modes.front();
+      for (const auto& m : r.model.modes) {
+        if (std::abs(m.fn_hz - fn) < std::abs(best->fn_hz - fn)) best = &m;
+      }
+      const std::string q = "mode" + std::to_string(i + 1) + ".";
+      add_truth_row(c, q + "fn_hz", id, fn, best->fn_hz);
+      add_truth_row(c, q + "zeta", id, truth_number(modes[i], "zeta"), best->zeta);
+      add_truth_row(c, q + "alpha", id, truth_number(modes[i], "alpha"), best->alpha);
+    }
+  }
+  add_truth_row(c, "bandwidth_before_hz", id, truth_number(v, "bandwidth_before_hz"),
+                r.bandwidth_before_hz);
+  const double var = truth_number(v, "noise_var_N2");
+  add_truth_row(c, "r_N", id, std::isfinite(var) ? std::sqrt(var) : var, r.frf.r_tap_n);
+}
+
+}  // namespace chatterlab::app
