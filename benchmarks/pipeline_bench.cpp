@@ -98,9 +98,11 @@ void BM_RawF32Load(benchmark::State& state) {
   d.file = file;
   d.relative_file = "bench.f32";
   d.channels = {"x", "y", "tach"};
+  app::ChannelSpec cal;
+  cal.scale = 3.9e-5;
   for (auto _ : state) {
     const auto t = app::SignalTable::open(d, "bench.f32");
-    benchmark::DoNotOptimize(t.channel("y", {3.9e-5, 0.0, {}})[0]);
+    benchmark::DoNotOptimize(t.channel("y", cal)[0]);
   }
   state.SetItemsProcessed(state.iterations() * rows * 3);
   state.SetBytesProcessed(state.iterations() * rows * 12);
