@@ -294,6 +294,17 @@ Eigen::VectorXd steady_gain(const CompensatorModel& m, double q_over_r) {
   return s.K.col(0);
 }
 
+Eigen::Index gain_convergence_steps(const CompensatorModel& m, double q_over_r,
+                                    Eigen::Index max_steps) {
+  require_rule(std::isfinite(q_over_r) && q_over_r > 0.0, "gain_convergence_steps: q_over_r",
+               q_over_r, "must be finite and > 0");
+  Filter<Eigen::Dynamic>::Gains gains;
+  bool converged = false;
+  const Index steps =
+      Filter<Eigen::Dynamic>::gain_sequence(m, q_over_r, max_steps, &gains, &converged);
+  return converged ? steps : -1;
+}
+
 StepSummary compensate(const CompensatorModel& m, double q, double r, GainMode gain,
                        const Eigen::Ref<const Eigen::VectorXd>& z, Eigen::VectorXd* estimate) {
   require_rule(m.states >= 5 && m.F.rows() == m.states, "compensate: model states", m.states,

@@ -44,16 +44,16 @@ const char* to_string(GainMode g);  // "time-varying", "steady-state"
 
 // The discrete augmented model of one axis at one tooth-passing frequency and filter rate.
 struct CompensatorModel {
-  int modes = 0;                // k
-  int states = 0;               // 2k + 3
+  int modes = 0;   // k
+  int states = 0;  // 2k + 3
   double tpf_hz = 0.0;
   double filter_rate_hz = 0.0;
-  Eigen::MatrixXd F;            // e^{A_e T}
-  Eigen::MatrixXd Qd_unit;      // Van Loan Q_d for q = 1 (scales linearly with q)
-  Eigen::RowVectorXd H;         // C_e
-  Eigen::RowVectorXd Co;        // C_o
-  double cond_F = 0.0;          // ||F||_inf ||F^-1||_inf (003 eq. 4-37 applied to F, not A_e)
-  double obsv_rcond = 0.0;      // of (F, H), see discrete_observability_rcond
+  Eigen::MatrixXd F;        // e^{A_e T}
+  Eigen::MatrixXd Qd_unit;  // Van Loan Q_d for q = 1 (scales linearly with q)
+  Eigen::RowVectorXd H;     // C_e
+  Eigen::RowVectorXd Co;    // C_o
+  double cond_F = 0.0;      // ||F||_inf ||F^-1||_inf (003 eq. 4-37 applied to F, not A_e)
+  double obsv_rcond = 0.0;  // of (F, H), see discrete_observability_rcond
 };
 
 // @param modes          the fitted plant (sum alpha need not be 1)
@@ -69,6 +69,11 @@ CompensatorModel make_compensator(const std::vector<SensorMode>& modes, double t
 // @return the summary: fails when the DARE does not converge (steady-state mode)
 StepSummary compensate(const CompensatorModel& m, double q, double r, GainMode gain,
                        const Eigen::Ref<const Eigen::VectorXd>& z, Eigen::VectorXd* estimate);
+
+// Samples until the time-varying gain from P0 = 0 converges by the rule of kTimeVarying (the
+// gain is then held), or -1 when it has not within max_steps.
+Eigen::Index gain_convergence_steps(const CompensatorModel& m, double q_over_r,
+                                    Eigen::Index max_steps);
 
 // K_inf (states x 1) of the DARE with Q = (q/r) Qd_unit, R = 1. Throws InputError for
 // q_over_r <= 0; an unconverged DARE returns an empty vector.
@@ -100,22 +105,22 @@ std::vector<int> analysed_harmonics(double sf_hz, double band_lo_hz, double band
 // minimum.
 struct TapSweepInput {
   const std::vector<SensorMode>* modes = nullptr;
-  Eigen::VectorXd hammer_n;            // at the filter rate
-  Eigen::VectorXd response_n;          // at the filter rate
-  std::vector<TapWindow> windows;      // at the filter rate
-  std::vector<Eigen::Index> pre_end;   // per window: samples from the window start to the end
-                                       // of its pre-impact part
+  Eigen::VectorXd hammer_n;           // at the filter rate
+  Eigen::VectorXd response_n;         // at the filter rate
+  std::vector<TapWindow> windows;     // at the filter rate
+  std::vector<Eigen::Index> pre_end;  // per window: samples from the window start to the end
+                                      // of its pre-impact part
   double filter_rate_hz = 0.0;
   double r_tap_n = 0.0;
   double band_lo_hz = 0.0, band_hi_hz = 0.0;
   GainMode gain = GainMode::kTimeVarying;
 };
 struct SweepCurve {
-  StepSummary summary;        // fails when no harmonic lies in the band
-  std::vector<int> exponents; // n
-  Eigen::VectorXd rmse_n;     // per n
-  int best_exponent = 0;      // n of q_opt
-  double q_opt = 0.0;         // 2^best
+  StepSummary summary;         // fails when no harmonic lies in the band
+  std::vector<int> exponents;  // n
+  Eigen::VectorXd rmse_n;      // per n
+  int best_exponent = 0;       // n of q_opt
+  double q_opt = 0.0;          // 2^best
   std::vector<int> harmonics;
 };
 struct SweepOptions {

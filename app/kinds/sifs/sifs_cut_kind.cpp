@@ -304,6 +304,23 @@ void SifsCutKind::run(const TestSpec& t, const CampaignValues& in, const RunCont
         errors[ai] = "filter: " + fs_sum.message;
         return;
       }
+      const std::vector<std::string>* step_warnings[3] = {
+          &ax.unbalance.summary.warnings, &ax.tap_curve.summary.warnings, &fs_sum.warnings};
+      for (const auto* w : step_warnings)
+        ax.warnings.insert(ax.warnings.end(), w->begin(), w->end());
+      ax.gain_converged_s = kNaN;
+      if (s.gain == sifs::GainMode::kTimeVarying) {
+        const Eigen::Index steps =
+            sifs::gain_convergence_steps(model, ax.q / ax.r_cut_n, ax.measured_n.size());
+        if (steps >= 0) ax.gain_converged_s = static_cast<double>(steps) / fr;
+        if (steps < 0 || steps > res->cut_begin) {
+          ax.warnings.push_back(
+              "the time-varying gain had not converged by the start of cut_window_s (" +
+              (steps < 0 ? std::string("not within the record")
+                         : "converged at " + fmt_sig(ax.gain_converged_s, 4) + " s") +
+              "): the harmonics are those of a filter still settling");
+        }
+      }
       // 6. Harmonics over the cut window.
       ax.harmonics = harmonics;
       ax.c_measured = sifs::cut_harmonics(ax.measured_n, fr, res->cut_begin, res->cut_end,
@@ -319,6 +336,8 @@ void SifsCutKind::run(const TestSpec& t, const CampaignValues& in, const RunCont
         ax.rmse_measured_n = sifs::spectral_rmse(ax.c_measured, ax.c_reference);
         ax.cut_curve = sifs::cut_sweep(model, ax.r_cut_n, s.gain, ax.measured_n, res->cut_begin,
                                        res->cut_end, res->spindle_hz, harmonics, ax.c_reference);
+        ax.warnings.insert(ax.warnings.end(), ax.cut_curve.summary.warnings.begin(),
+                           ax.cut_curve.summary.warnings.end());
       }
       // 7. Usable bandwidth before and after.
       ax.bandwidth_before_hz = sifs::usable_bandwidth_hz(tap.modes, model, Eigen::VectorXd());
@@ -333,6 +352,11 @@ void SifsCutKind::run(const TestSpec& t, const CampaignValues& in, const RunCont
     if (!errors[static_cast<std::size_t>(a)].empty()) {
       throw InputError(sifs_signal_label(t) + ": axis " + (a == 0 ? "x" : "y") + ": " +
                        errors[static_cast<std::size_t>(a)]);
+    }
+  }
+  for (int a = 0; a < 2; ++a) {
+    for (const auto& w : res->axes[static_cast<std::size_t>(a)].warnings) {
+      out.warnings.push_back(std::string("axis ") + (a == 0 ? "x" : "y") + ": " + w);
     }
   }
   out.result = std::move(res);
@@ -402,6 +426,7 @@ json SifsCutKind::results(const TestOutcome& out) const {
         {"harmonics", hs},
         {"bandwidth_hz",
          {{"before", ax.bandwidth_before_hz}, {"after", number_or_null(ax.bandwidth_after_hz)}}},
+        {"gain_converged_s", number_or_null(ax.gain_converged_s)},
         {"cond_F", ax.cond_F},
         {"obsv_rcond", ax.obsv_rcond}};
     if (r.has_reference) {

@@ -113,6 +113,10 @@ struct SifsAxisResult {
   sifs::SweepCurve cut_curve;  // the same sweep on the cut against the reference (validation)
   double bandwidth_before_hz = 0.0, bandwidth_after_hz = 0.0;
   double cond_F = 0.0, obsv_rcond = 0.0;
+  // Time-varying gain: when it converged (s from the record start); NaN for the steady-state
+  // gain or a gain that had not converged by the end of the record.
+  double gain_converged_s = 0.0;
+  std::vector<std::string> warnings;                       // of the axis's steps
   Eigen::VectorXd measured_n, compensated_n, reference_n;  // at the filter rate, whole record
 };
 struct SifsCutSummary {
