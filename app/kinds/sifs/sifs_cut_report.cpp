@@ -38,7 +38,7 @@ render::Figure sifs_cut_spectrum_figure(const SifsCutResult& c, int axis) {
   a.x_label = "frequency [Hz]";
   a.y_label = std::string("|c_h|, f_") + kAxisNames[axis] + " [N]";
   a.log_y = true;
-  a.legend = render::LegendPosition::kTopRight;
+  a.legend = render::LegendPosition::kAuto;
   if (c.has_reference) {
     a.series.emplace_back(f, ref, "reference (dynamometer)", render::SeriesStyle::kLinePoints,
                           "#000000");
@@ -59,7 +59,7 @@ render::Figure sifs_cut_rmse_figure(const SifsCutResult& c) {
     p.x_label = "q exponent n (q = 2^n)";
     p.y_label = std::string("RMSE ") + kAxisNames[a] + " [N]";
     p.log_y = true;
-    p.legend = render::LegendPosition::kTopRight;
+    p.legend = render::LegendPosition::kAuto;
     std::vector<double> n, tap;
     for (std::size_t i = 0; i < ax.tap_curve.exponents.size(); ++i) {
       n.push_back(ax.tap_curve.exponents[i]);
@@ -70,7 +70,7 @@ render::Figure sifs_cut_rmse_figure(const SifsCutResult& c) {
     p.series.emplace_back(
         std::vector<double>{static_cast<double>(ax.q_exponent)},
         std::vector<double>{ax.tap_curve.rmse_n(ax.q_exponent - ax.tap_curve.exponents.front())},
-        "tap-test choice", render::SeriesStyle::kPoints, "#0072B2");
+        "tap-test choice", render::SeriesStyle::kLinePoints, "#0072B2");
     if (ax.cut_curve.summary.ok()) {
       std::vector<double> cn, cut;
       for (std::size_t i = 0; i < ax.cut_curve.exponents.size(); ++i) {
@@ -83,7 +83,7 @@ render::Figure sifs_cut_rmse_figure(const SifsCutResult& c) {
       p.series.emplace_back(
           std::vector<double>{static_cast<double>(b)},
           std::vector<double>{ax.cut_curve.rmse_n(b - ax.cut_curve.exponents.front())},
-          "cutting optimum", render::SeriesStyle::kPoints, "#D55E00");
+          "cutting optimum", render::SeriesStyle::kLinePoints, "#D55E00");
     }
   }
   return fig;
@@ -313,7 +313,7 @@ render::Figure sifs_map_figure(const SifsCutGroupResult& g) {
     render::Axes& p = fig.panels.emplace_back();
     p.x_label = "spindle speed [rpm]";
     p.y_label = std::string("q exponent, ") + kAxisNames[a];
-    p.legend = render::LegendPosition::kTopRight;
+    p.legend = render::LegendPosition::kAuto;
     std::vector<double> x, y;
     for (std::size_t i = 0; i < m.rpm.size(); ++i) {
       x.push_back(m.rpm[i]);
