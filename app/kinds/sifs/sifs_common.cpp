@@ -55,6 +55,34 @@ std::optional<std::string> window_outside(const TestSpec& t, const std::string& 
          fmt_sig(duration_s, 6) + " s)";
 }
 
+std::optional<double> read_tool_length(const YAML::Node& root, YamlReader& r) {
+  const auto L = r.optional_double(root, "tool_length_mm");
+  if (L && !(*L > 0)) {
+    r.error("tool_length_mm", "must be > 0");
+    return std::nullopt;
+  }
+  return L;
+}
+
+Eigen::Matrix3d SifsCalibration::at(const std::optional<double>& length_mm,
+                                    std::string* note) const {
+  if (by_length.empty()) return C;
+  if (!length_mm) {
+    std::string lengths;
+    for (const auto& [L, m] : by_length) lengths += (lengths.empty() ? "" : ", ") + fmt_sig(L, 6);
+    throw InputError("key 'tool_length_mm' is required: the static tests calibrate tool lengths " +
+                     lengths + " mm");
+  }
+  for (const auto& [L, m] : by_length) {
+    if (std::abs(L - *length_mm) <= 1e-9 * std::max(1.0, L)) return m;
+  }
+  if (note) {
+    *note = "calibration at tool_length_mm " + fmt_sig(*length_mm, 6) +
+            " from the tool-length law of the static tests (003 eq. 3-4, every entry)";
+  }
+  return slope_per_mm * *length_mm + intercept;
+}
+
 sifs::TapSweepInput tap_sweep_input(const SifsTapData& tap, double filter_rate_hz,
                                     double band_lo_hz, double band_hi_hz, sifs::GainMode gain) {
   sifs::TapSweepInput in;

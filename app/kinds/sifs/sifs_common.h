@@ -41,6 +41,9 @@ std::optional<std::string> window_outside(const TestSpec& t, const std::string& 
 
 struct SifsTapData;
 
+// Optional `tool_length_mm` (> 0); errors through r.
+std::optional<double> read_tool_length(const YAML::Node& root, YamlReader& r);
+
 // The tap record of `tap` at `filter_rate_hz` (anti-aliased resampling when the rates differ)
 // as the input of the tuning sweep (format step 4): windows and pre-impact ends mapped to the
 // new rate (the pre-impact part ends 1 ms before each impact), with the tap's R.

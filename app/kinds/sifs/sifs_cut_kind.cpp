@@ -49,9 +49,20 @@ double phase_err_deg(std::complex<double> c, std::complex<double> ref) {
 }  // namespace
 
 std::vector<std::string> SifsCutKind::keys() const {
-  return {"spindle_rpm",    "air_window_s",        "cut_window_s",        "taps", "dynamometer",
-          "band_hz",        "filter_rate_hz",      "unbalance_harmonics", "gain", "operation",
-          "axial_depth_mm", "radial_immersion_mm", "feed_per_tooth_mm"};
+  return {"spindle_rpm",
+          "air_window_s",
+          "cut_window_s",
+          "taps",
+          "dynamometer",
+          "band_hz",
+          "filter_rate_hz",
+          "unbalance_harmonics",
+          "gain",
+          "tool_length_mm",
+          "operation",
+          "axial_depth_mm",
+          "radial_immersion_mm",
+          "feed_per_tooth_mm"};
 }
 
 std::shared_ptr<const KindSpec> SifsCutKind::parse(const YAML::Node& root, YamlReader& r) const {
@@ -111,6 +122,7 @@ std::shared_ptr<const KindSpec> SifsCutKind::parse(const YAML::Node& root, YamlR
       r.error("gain", "must be time-varying or steady-state, not '" + *g + "'");
     }
   }
+  s->tool_length_mm = read_tool_length(root, r);
   for (const char* k : {"axial_depth_mm", "radial_immersion_mm", "feed_per_tooth_mm"}) {
     r.optional_double(root, k);
   }
@@ -208,7 +220,15 @@ void SifsCutKind::run(const TestSpec& t, const CampaignValues& in, const RunCont
   }
   const SignalTable table = SignalTable::open(t.data, sifs_signal_label(t));
   const sifs::Pairs pairs = sifs::pair_signals(read_washers(table, t));
-  const Eigen::Matrix<double, Eigen::Dynamic, 3> fm = pairs * cal->C.transpose();
+  std::string cal_note;
+  Eigen::Matrix3d C;
+  try {
+    C = cal->at(s.tool_length_mm, &cal_note);
+  } catch (const InputError& e) {
+    throw InputError(t.yaml_label + ": " + e.what());
+  }
+  if (!cal_note.empty()) out.warnings.push_back(cal_note);
+  const Eigen::Matrix<double, Eigen::Dynamic, 3> fm = pairs * C.transpose();
   const double fs = t.sample_rate_hz;
   const double fr = s.filter_rate_hz.value_or(fs);
   const Eigen::Index n = fm.rows();

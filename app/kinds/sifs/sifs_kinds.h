@@ -37,14 +37,26 @@ inline std::string sifs_tap(const std::string& id) { return "sifs-tap:" + id; }
 inline const std::string kSifsCutSummary = "sifs-cut/summary";
 }  // namespace value
 
+// The calibration the consumers use: one matrix, or one per tool length when the static tests
+// were run with several tools (test.yaml `tool_length_mm`; 003 eq. 3-4 makes the lateral
+// calibration depend on the length). With two lengths or more, each entry's straight line
+// C_ij(L) = slope_ij L + intercept_ij (003 eq. 3-4 generalised to every entry).
 struct SifsCalibration {
-  Eigen::Matrix3d C = Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d C = Eigen::Matrix3d::Identity();            // the only one, or the first length's
+  std::vector<std::pair<double, Eigen::Matrix3d>> by_length;  // ascending length; empty: one C
+  Eigen::Matrix3d slope_per_mm = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d intercept = Eigen::Matrix3d::Zero();
+  // The matrix for a test of tool length L (mm, absent: none given): the single C; the
+  // calibration of that length; else the law at L (*note says so). Throws InputError naming
+  // `tool_length_mm` when several lengths were calibrated and the test gives none.
+  Eigen::Matrix3d at(const std::optional<double>& length_mm, std::string* note) const;
 };
 
 // ---- sifs-static ---------------------------------------------------------------------------
 struct SifsStaticSpec : KindSpec {
   sifs::Axis axis = sifs::Axis::kX;
   std::vector<sifs::LoadWindow> loads;
+  std::optional<double> tool_length_mm;  // extension key: tool + holder length L of 003 eq. 3-4
 };
 struct SifsStaticResult : KindResult {
   sifs::StaticReduction reduction;
@@ -52,7 +64,10 @@ struct SifsStaticResult : KindResult {
 struct SifsStaticGroupResult : KindResult {
   std::vector<std::string> ids;
   std::vector<sifs::StaticReduction> tests;
-  sifs::CalibrationFit fit;
+  sifs::CalibrationFit fit;  // the only fit, or the first tool length's
+  // Several tool lengths: one fit per length (ascending) and the law of each entry.
+  std::vector<std::pair<double, sifs::CalibrationFit>> by_length;
+  SifsCalibration calibration;
 };
 
 // ---- sifs-tap ------------------------------------------------------------------------------
@@ -62,6 +77,7 @@ struct SifsTapSpec : KindSpec {
   std::vector<std::pair<double, double>> hits_s;  // [start, end] s
   double band_lo_hz = 0.0, band_hi_hz = 0.0;
   int modes = 3;
+  std::optional<double> tool_length_mm;  // extension key: picks the calibration (see above)
 };
 // What a tap test gives the cuts: the fitted plant and its record (hammer and calibrated
 // response along the axis, at the tap's rate) for the tuning sweep.
@@ -99,6 +115,7 @@ struct SifsCutSpec : KindSpec {
   std::optional<double> filter_rate_hz;
   int unbalance_harmonics = 2;
   sifs::GainMode gain = sifs::GainMode::kTimeVarying;  // extension key `gain`
+  std::optional<double> tool_length_mm;  // extension key: picks the calibration (see above)
 };
 struct SifsAxisResult {
   StepSummary summary;

@@ -1,6 +1,9 @@
 // Kind `sifs-static` and the group `sifs-static` (format section 6, 003 sec. 3.2): see
 // sifs_kinds.h and docs/sifs.md.
+#include <Eigen/QR>
 #include <cmath>
+#include <map>
+#include <optional>
 
 #include "app/core/format.h"
 #include "app/kinds/sifs/sifs_common.h"
@@ -25,11 +28,14 @@ const char* const kPairNames[3] = {"s_x", "s_y", "s_z"};
 
 }  // namespace
 
-std::vector<std::string> SifsStaticKind::keys() const { return {"axis", "loads"}; }
+std::vector<std::string> SifsStaticKind::keys() const {
+  return {"axis", "loads", "tool_length_mm"};
+}
 
 std::shared_ptr<const KindSpec> SifsStaticKind::parse(const YAML::Node& root, YamlReader& r) const {
   auto s = std::make_shared<SifsStaticSpec>();
   s->axis = read_sifs_axis(root, r, true);
+  s->tool_length_mm = read_tool_length(root, r);
   const YAML::Node loads = root["loads"];
   if (!loads) {
     r.error("loads", "is required: a list of [start_s, end_s, load_N]");
@@ -158,26 +164,91 @@ void SifsStaticGroup::run(const CampaignValues& in, const RunContext& ctx,
                           GroupOutcome& out) const {
   auto g = std::make_unique<SifsStaticGroupResult>();
   int members = 0;
-  for (const auto& t : ctx.campaign->tests) members += t.kind == "sifs-static";
+  std::map<std::string, std::optional<double>> length_of;
+  for (const auto& t : ctx.campaign->tests) {
+    if (t.kind != "sifs-static") continue;
+    ++members;
+    if (const auto* s = dynamic_cast<const SifsStaticSpec*>(t.params.get())) {
+      length_of[t.id] = s->tool_length_mm;
+    }
+  }
+  std::map<double, std::vector<sifs::StaticReduction>> by_length;
+  bool some_without = false;
   for (const auto& [id, red] : in.all<sifs::StaticReduction>(value::kSifsStaticRecord)) {
     out.members.push_back(id);
     g->ids.push_back(id);
     g->tests.push_back(*red);
+    const auto L = length_of[id];
+    if (L) {
+      by_length[*L].push_back(*red);
+    } else {
+      some_without = true;
+    }
   }
   const int analysed = static_cast<int>(g->tests.size());
-  g->fit = sifs::fit_calibration(g->tests);
-  out.status = g->fit.summary;
-  if (!out.status.ok() && analysed < members) {
-    out.status.fail(std::to_string(analysed) + " of " + std::to_string(members) +
-                    " sifs-static tests analysed: " + g->fit.summary.message);
+  const auto finish = [&](const StepSummary& status) {
+    out.status = status;
+    if (!out.status.ok() && analysed < members) {
+      out.status.fail(std::to_string(analysed) + " of " + std::to_string(members) +
+                      " sifs-static tests analysed: " + status.message);
+    }
+    out.result = std::move(g);
+  };
+  if (by_length.size() <= 1) {
+    // One tool (or none named): one calibration over every window.
+    g->fit = sifs::fit_calibration(g->tests);
+    g->calibration.C = g->fit.C;
+    finish(g->fit.summary);
+    return;
   }
-  out.result = std::move(g);
+  if (some_without) {
+    StepSummary s;
+    s.fail(
+        "the static tests name several tool lengths, but not all of them: set "
+        "tool_length_mm in every sifs-static test");
+    finish(s);
+    return;
+  }
+  // Several tools: one calibration per length (each needs its three axes), then the straight
+  // line of every entry against the length (003 eq. 3-4 generalised).
+  for (const auto& [L, tests] : by_length) {
+    sifs::CalibrationFit f = sifs::fit_calibration(tests);
+    if (!f.summary.ok()) {
+      StepSummary s;
+      s.fail("tool_length_mm " + fmt_sig(L, 6) + ": " + f.summary.message);
+      finish(s);
+      return;
+    }
+    g->by_length.emplace_back(L, f);
+    g->calibration.by_length.emplace_back(L, f.C);
+  }
+  g->fit = g->by_length.front().second;
+  g->calibration.C = g->fit.C;
+  const auto n = static_cast<Eigen::Index>(g->by_length.size());
+  Eigen::MatrixX2d A(n, 2);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    A.row(k) << g->by_length[static_cast<std::size_t>(k)].first, 1.0;
+  }
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixX2d> qr(A);
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      Eigen::VectorXd y(n);
+      for (Eigen::Index k = 0; k < n; ++k) {
+        y(k) = g->by_length[static_cast<std::size_t>(k)].second.C(i, j);
+      }
+      const Eigen::Vector2d p = qr.solve(y);
+      g->calibration.slope_per_mm(i, j) = p(0);
+      g->calibration.intercept(i, j) = p(1);
+    }
+  }
+  StepSummary ok;
+  ok.succeed();
+  finish(ok);
 }
 
 void SifsStaticGroup::publish(const GroupOutcome& out, CampaignValues& values) const {
-  SifsCalibration cal;
-  cal.C = out.result_of<SifsStaticGroupResult>().fit.C;
-  values.put(value::kSifsCalibration, "group:" + name(), cal);
+  values.put(value::kSifsCalibration, "group:" + name(),
+             out.result_of<SifsStaticGroupResult>().calibration);
 }
 
 json SifsStaticGroup::results(const GroupOutcome& out) const {
@@ -199,6 +270,18 @@ json SifsStaticGroup::results(const GroupOutcome& out) const {
   json lin = json::object();
   for (int a = 0; a < 3; ++a) lin[kPairNames[a]] = number_or_null(f.linearity_pct(a));
   d["linearity_pct"] = lin;
+  if (!g->by_length.empty()) {
+    json lengths = json::array();
+    for (const auto& [L, fit] : g->by_length) {
+      lengths.push_back({{"tool_length_mm", L},
+                         {"calibration_matrix", matrix_json(fit.C)},
+                         {"residual_rms_N", fit.residual_rms_n},
+                         {"residual_max_pct", fit.residual_max_pct}});
+    }
+    d["by_tool_length"] = lengths;
+    d["tool_length_law"] = {{"slope_per_mm", matrix_json(g->calibration.slope_per_mm)},
+                            {"intercept", matrix_json(g->calibration.intercept)}};
+  }
   if (!out.status.warnings.empty()) d["warnings"] = out.status.warnings;
   return d;
 }

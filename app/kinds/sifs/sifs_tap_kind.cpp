@@ -48,11 +48,14 @@ std::vector<double> to_vector(const Eigen::VectorXd& v) {
 
 }  // namespace
 
-std::vector<std::string> SifsTapKind::keys() const { return {"axis", "hits", "band_hz", "modes"}; }
+std::vector<std::string> SifsTapKind::keys() const {
+  return {"axis", "hits", "band_hz", "modes", "tool_length_mm"};
+}
 
 std::shared_ptr<const KindSpec> SifsTapKind::parse(const YAML::Node& root, YamlReader& r) const {
   auto s = std::make_shared<SifsTapSpec>();
   s->axis = read_sifs_axis(root, r, false);
+  s->tool_length_mm = read_tool_length(root, r);
   const YAML::Node hits = root["hits"];
   if (!hits) {
     r.error("hits", "is required: a list of [start_s, end_s] windows, or auto");
@@ -144,7 +147,15 @@ void SifsTapKind::run(const TestSpec& t, const CampaignValues& in, const RunCont
   data->axis = s.axis;
   data->fs_hz = t.sample_rate_hz;
   data->hammer_n = table.channel("hammer", t.channel("hammer"));
-  data->response_n = p * cal->C.row(k).transpose();
+  std::string cal_note;
+  Eigen::Matrix3d C;
+  try {
+    C = cal->at(s.tool_length_mm, &cal_note);
+  } catch (const InputError& e) {
+    throw InputError(t.yaml_label + ": " + e.what());
+  }
+  if (!cal_note.empty()) out.warnings.push_back(cal_note);
+  data->response_n = p * C.row(k).transpose();
   const double fs = t.sample_rate_hz;
   if (s.auto_hits) {
     try {

@@ -36,13 +36,13 @@ const char* kSpec =
     "sifs: {}\n";
 
 // Tolerances (docs/sifs.md, "Measured figures"):
-constexpr double kCalibrationTol = 0.005;   // max |C - C_true| / max |C_true|
-constexpr double kFnTol = 0.005;            // relative, tap-test natural frequencies
-constexpr double kZetaTol = 0.05;           // relative, damping ratios
-constexpr double kAlphaTol = 0.03;          // relative, modal gains
-constexpr double kUnbalanceTol = 0.10;      // relative, 1x unbalance amplitude
-constexpr double kRmseRatio = 0.5;          // compensated spectral RMSE < this x uncompensated
-constexpr double kTpfTruthTol = 0.05;       // compensated TPF amplitude against the true force's
+constexpr double kCalibrationTol = 0.005;  // max |C - C_true| / max |C_true|
+constexpr double kFnTol = 0.005;           // relative, tap-test natural frequencies
+constexpr double kZetaTol = 0.05;          // relative, damping ratios
+constexpr double kAlphaTol = 0.03;         // relative, modal gains
+constexpr double kUnbalanceTol = 0.10;     // relative, 1x unbalance amplitude
+constexpr double kRmseRatio = 0.5;         // compensated spectral RMSE < this x uncompensated
+constexpr double kTpfTruthTol = 0.05;      // compensated TPF amplitude against the true force's
 
 std::string read_text(const fs::path& p) {
   std::ifstream in(p);
