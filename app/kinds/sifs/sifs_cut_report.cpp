@@ -273,6 +273,18 @@ json SifsCutGroup::results(const GroupOutcome& out) const {
     cx.push_back(c.cut_exponent[0] ? json(c.cut_exponent[0]) : json(nullptr));
     cy.push_back(c.cut_exponent[1] ? json(c.cut_exponent[1]) : json(nullptr));
   }
+  // How often the tap-test choice is within one step of n of the cutting optimum (the report's
+  // sentence): axis-cuts with a cutting optimum, and those matched.
+  int compared = 0, matched = 0;
+  for (const auto& c : g->cuts) {
+    for (std::size_t a = 0; a < 2; ++a) {
+      if (!c.cut_exponent[a]) continue;
+      ++compared;
+      matched += std::abs(c.tap_exponent[a] - c.cut_exponent[a]) <= 1;
+    }
+  }
+  d["compared_axis_cuts_count"] = compared;
+  d["tap_within_one_step_count"] = matched;
   d["spindle_rpm"] = rpm;
   d["q_exponent_x"] = qx;
   d["q_exponent_y"] = qy;
