@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <string>
 
+#include "analysis/common/statistics.h"
+
 namespace chatterlab {
 namespace frf {
 namespace {
@@ -15,16 +17,6 @@ std::string fmt(const char* format, double value) {
   char buf[64];
   std::snprintf(buf, sizeof buf, format, value);
   return buf;
-}
-
-double median(Eigen::VectorXd v) {
-  const auto n = static_cast<size_t>(v.size());
-  double* mid = v.data() + n / 2;
-  std::nth_element(v.data(), mid, v.data() + n);
-  if (n % 2 == 1) return *mid;
-  const double upper = *mid;
-  const double lower = *std::max_element(v.data(), mid);
-  return 0.5 * (lower + upper);
 }
 
 void check_inputs(const Eigen::Ref<const Eigen::VectorXd>& force,

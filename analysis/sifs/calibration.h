@@ -42,7 +42,7 @@ struct StaticReduction {
   // Drift per channel: a + b t fitted by least squares to every sample of the unloaded
   // windows, subtracted from the whole record (notes/003.md decision 7).
   Eigen::Matrix<double, 6, 1> drift_offset = Eigen::Matrix<double, 6, 1>::Zero();  // a
-  Eigen::Matrix<double, 6, 1> drift_per_s = Eigen::Matrix<double, 6, 1>::Zero();    // b
+  Eigen::Matrix<double, 6, 1> drift_per_s = Eigen::Matrix<double, 6, 1>::Zero();   // b
   // Per window, in the order given: mean pair signals s_w (drift removed) and load vector f_w
   // (load_n on `axis`, zero elsewhere).
   std::vector<LoadWindow> windows;
@@ -66,7 +66,7 @@ struct CalibrationFit {
   Eigen::Matrix3d S = Eigen::Matrix3d::Zero();  // sensitivity: s = S f (least squares, no
                                                 // intercept, over every window of the group)
   Eigen::Matrix3d C = Eigen::Matrix3d::Zero();  // calibration: f_m = C s, C = S^-1
-  double cond_S = 0.0;                           // 2-norm condition number of S
+  double cond_S = 0.0;                          // 2-norm condition number of S
   // Residuals C s_w - f_w of the loaded windows, in test order then window order.
   std::vector<Eigen::Vector3d> residuals_n;
   double residual_rms_n = 0.0;    // RMS over every component of every loaded window

@@ -12,6 +12,7 @@
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "analysis/common/constants.h"
+#include "analysis/common/statistics.h"
 #include "analysis/frf/peaks.h"
 #include "analysis/signal/fft.h"
 
@@ -46,16 +47,6 @@ std::string fmt(const char* format, double a, double b = 0.0, double c = 0.0, do
   char buf[256];
   std::snprintf(buf, sizeof buf, format, a, b, c, d);
   return buf;
-}
-
-double median(Eigen::VectorXd v) {
-  const auto n = static_cast<size_t>(v.size());
-  double* mid = v.data() + n / 2;
-  std::nth_element(v.data(), mid, v.data() + n);
-  if (n % 2 == 1) return *mid;
-  const double upper = *mid;
-  const double lower = *std::max_element(v.data(), mid);
-  return 0.5 * (lower + upper);
 }
 
 Eigen::Index samples(double seconds, double fs_hz) {

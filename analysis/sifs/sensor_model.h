@@ -30,7 +30,7 @@ struct TapWindow {
 };
 
 struct TapOptions {
-  double impact_fraction = 0.10;  // the impact starts where the hammer first exceeds this x peak
+  double impact_fraction = 0.10;     // the impact starts where the hammer first exceeds this x peak
   double pre_impact_guard_s = 1e-3;  // the pre-impact part ends this long before it
   double min_pre_impact_s = 0.020;   // a window must start at least this long before its impact
   // `auto` windows: a hit is a hammer excursion above auto_threshold_fraction x the record's
@@ -49,10 +49,10 @@ std::vector<TapWindow> auto_tap_windows(const Eigen::Ref<const Eigen::VectorXd>&
 
 struct TapFrf {
   StepSummary summary;
-  Eigen::VectorXd f_hz;         // bins k = 1 .. L/2, f = k fs / L (DC left out)
-  Eigen::VectorXcd h1;          // sensor N per hammer N
+  Eigen::VectorXd f_hz;  // bins k = 1 .. L/2, f = k fs / L (DC left out)
+  Eigen::VectorXcd h1;   // sensor N per hammer N
   Eigen::VectorXd coherence;
-  int hits = 0;                 // n_d
+  int hits = 0;  // n_d
   double df_hz = 0.0;
   // Per window: the impact sample (first |hammer - pre-impact mean| >= impact_fraction x peak)
   std::vector<Eigen::Index> impact;
@@ -102,10 +102,10 @@ SensorModel fit_sensor_model(const TapFrf& frf, const SensorFitOptions& options)
 
 // The scaled modal realization (dense matrices of size 2k, block diagonal).
 struct ScaledModal {
-  Eigen::MatrixXd A;       // 2k x 2k
-  Eigen::VectorXd B;       // 2k
-  Eigen::RowVectorXd C;    // 2k
-  double cond_A = 0.0;     // 003 eq. 4-38: ||A||_inf ||A^-1||_inf
+  Eigen::MatrixXd A;     // 2k x 2k
+  Eigen::VectorXd B;     // 2k
+  Eigen::RowVectorXd C;  // 2k
+  double cond_A = 0.0;   // 003 eq. 4-38: ||A||_inf ||A^-1||_inf
 };
 ScaledModal realize_scaled_modal(const std::vector<SensorMode>& modes);
 // C (j w I - A)^-1 B, for the realization-equals-model test.

@@ -26,9 +26,9 @@ struct HarmonicFit {
   double fundamental_hz = 0.0;
   std::vector<int> harmonics;  // h, as given
   double c0 = 0.0;
-  Eigen::VectorXcd c;              // c_h, one per harmonic, same order
-  double residual_rms = 0.0;       // RMS of x - fit over the window
-  Eigen::Index samples = 0;        // end - begin
+  Eigen::VectorXcd c;         // c_h, one per harmonic, same order
+  double residual_rms = 0.0;  // RMS of x - fit over the window
+  Eigen::Index samples = 0;   // end - begin
 };
 
 // @param x          the signal

@@ -45,8 +45,8 @@ class RationalResampler {
  private:
   double from_hz_, to_hz_;
   int up_ = 1, down_ = 1;
-  Eigen::VectorXd taps_;  // prototype filter at the up-sampled rate, gain up
-  Eigen::Index half_ = 0; // taps_.size() = 2 half_ + 1
+  Eigen::VectorXd taps_;   // prototype filter at the up-sampled rate, gain up
+  Eigen::Index half_ = 0;  // taps_.size() = 2 half_ + 1
 };
 
 }  // namespace signal

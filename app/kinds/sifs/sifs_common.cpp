@@ -83,6 +83,19 @@ Eigen::Matrix3d SifsCalibration::at(const std::optional<double>& length_mm,
   return slope_per_mm * *length_mm + intercept;
 }
 
+Eigen::Matrix3d calibration_for(const SifsCalibration& cal, const TestSpec& t,
+                                const std::optional<double>& length_mm,
+                                std::vector<std::string>& warnings) {
+  std::string note;
+  try {
+    const Eigen::Matrix3d C = cal.at(length_mm, &note);
+    if (!note.empty()) warnings.push_back(note);
+    return C;
+  } catch (const InputError& e) {
+    throw InputError(t.yaml_label + ": " + e.what());
+  }
+}
+
 sifs::TapSweepInput tap_sweep_input(const SifsTapData& tap, double filter_rate_hz,
                                     double band_lo_hz, double band_hi_hz, sifs::GainMode gain) {
   sifs::TapSweepInput in;

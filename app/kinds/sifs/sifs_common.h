@@ -41,6 +41,14 @@ std::optional<std::string> window_outside(const TestSpec& t, const std::string& 
 
 struct SifsTapData;
 
+struct SifsCalibration;
+
+// The calibration of test t at its tool length (SifsCalibration::at): an InputError names t's
+// test.yaml; the note of a matrix from the tool-length law goes to warnings.
+Eigen::Matrix3d calibration_for(const SifsCalibration& cal, const TestSpec& t,
+                                const std::optional<double>& length_mm,
+                                std::vector<std::string>& warnings);
+
 // Optional `tool_length_mm` (> 0); errors through r.
 std::optional<double> read_tool_length(const YAML::Node& root, YamlReader& r);
 

@@ -220,14 +220,7 @@ void SifsCutKind::run(const TestSpec& t, const CampaignValues& in, const RunCont
   }
   const SignalTable table = SignalTable::open(t.data, sifs_signal_label(t));
   const sifs::Pairs pairs = sifs::pair_signals(read_washers(table, t));
-  std::string cal_note;
-  Eigen::Matrix3d C;
-  try {
-    C = cal->at(s.tool_length_mm, &cal_note);
-  } catch (const InputError& e) {
-    throw InputError(t.yaml_label + ": " + e.what());
-  }
-  if (!cal_note.empty()) out.warnings.push_back(cal_note);
+  const Eigen::Matrix3d C = calibration_for(*cal, t, s.tool_length_mm, out.warnings);
   const Eigen::Matrix<double, Eigen::Dynamic, 3> fm = pairs * C.transpose();
   const double fs = t.sample_rate_hz;
   const double fr = s.filter_rate_hz.value_or(fs);

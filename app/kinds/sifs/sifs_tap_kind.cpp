@@ -147,14 +147,7 @@ void SifsTapKind::run(const TestSpec& t, const CampaignValues& in, const RunCont
   data->axis = s.axis;
   data->fs_hz = t.sample_rate_hz;
   data->hammer_n = table.channel("hammer", t.channel("hammer"));
-  std::string cal_note;
-  Eigen::Matrix3d C;
-  try {
-    C = cal->at(s.tool_length_mm, &cal_note);
-  } catch (const InputError& e) {
-    throw InputError(t.yaml_label + ": " + e.what());
-  }
-  if (!cal_note.empty()) out.warnings.push_back(cal_note);
+  const Eigen::Matrix3d C = calibration_for(*cal, t, s.tool_length_mm, out.warnings);
   data->response_n = p * C.row(k).transpose();
   const double fs = t.sample_rate_hz;
   if (s.auto_hits) {
