@@ -18,7 +18,8 @@ constexpr int kAutoSpectrum = 2;
 constexpr int kCrossSpectrum = 3;
 constexpr int kFrf = 4;
 constexpr int kCoherence = 6;
-constexpr int kPowerSpectralDensity = 12;
+constexpr int kPowerSpectralDensity = 9;
+constexpr int kSpectrum = 12;
 
 struct Function58 {
   // Records 1-5: five free-text id lines (record 1 is usually the function's name).
