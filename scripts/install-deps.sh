@@ -9,6 +9,7 @@ PACKAGES=(
   nlohmann-json3-dev libkainjow-mustache-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox libosmesa6-dev libpng-dev
+  libmatio-dev
   libssl-dev weasyprint poppler-utils fonts-dejavu-core
   python3-jsonschema
 )

@@ -1,0 +1,209 @@
+#include "app/formats/matfile.h"
+
+#include <matio.h>
+#include <unistd.h>
+
+#include <cstdint>
+#include <memory>
+#include <mutex>
+
+#include "analysis/common/summary.h"
+
+namespace chatterlab::app::mat {
+namespace {
+
+// libmatio prints its diagnostics to stderr; keep the last one for our message instead.
+std::mutex log_mutex;
+std::string last_log;
+
+void keep_log(int /*level*/, char* message) {
+  const std::lock_guard<std::mutex> lock(log_mutex);
+  last_log = message ? message : "";
+}
+
+void init_log() {
+  static std::once_flag once;
+  std::call_once(once, [] { Mat_LogInitFunc("chatterlab", keep_log); });
+}
+
+std::string matio_said() {
+  const std::lock_guard<std::mutex> lock(log_mutex);
+  std::string s = last_log;
+  last_log.clear();
+  return s.empty() ? "" : " (libmatio: " + s + ")";
+}
+
+struct FileCloser {
+  void operator()(mat_t* m) const { Mat_Close(m); }
+};
+struct VarFreer {
+  void operator()(matvar_t* v) const { Mat_VarFree(v); }
+};
+using File = std::unique_ptr<mat_t, FileCloser>;
+using Var = std::unique_ptr<matvar_t, VarFreer>;
+
+File open_read(const std::filesystem::path& file) {
+  init_log();
+  if (!std::filesystem::exists(file)) throw InputError(file.string() + ": file not found");
+  File m(Mat_Open(file.c_str(), MAT_ACC_RDONLY));
+  if (!m) {
+    throw InputError(file.string() + ": not a MATLAB .mat file libmatio can read (v4, v5, v7.3)" +
+                     matio_said());
+  }
+  return m;
+}
+
+bool numeric_class(matio_classes c) {
+  switch (c) {
+    case MAT_C_DOUBLE:
+    case MAT_C_SINGLE:
+    case MAT_C_INT8:
+    case MAT_C_UINT8:
+    case MAT_C_INT16:
+    case MAT_C_UINT16:
+    case MAT_C_INT32:
+    case MAT_C_UINT32:
+    case MAT_C_INT64:
+    case MAT_C_UINT64:
+      return true;
+    default:
+      return false;
+  }
+}
+
+template <typename T>
+double value_at(const void* data, std::size_t i) {
+  return static_cast<double>(static_cast<const T*>(data)[i]);
+}
+
+double element(const matvar_t& v, std::size_t i) {
+  switch (v.class_type) {
+    case MAT_C_DOUBLE:
+      return value_at<double>(v.data, i);
+    case MAT_C_SINGLE:
+      return value_at<float>(v.data, i);
+    case MAT_C_INT8:
+      return value_at<std::int8_t>(v.data, i);
+    case MAT_C_UINT8:
+      return value_at<std::uint8_t>(v.data, i);
+    case MAT_C_INT16:
+      return value_at<std::int16_t>(v.data, i);
+    case MAT_C_UINT16:
+      return value_at<std::uint16_t>(v.data, i);
+    case MAT_C_INT32:
+      return value_at<std::int32_t>(v.data, i);
+    case MAT_C_UINT32:
+      return value_at<std::uint32_t>(v.data, i);
+    case MAT_C_INT64:
+      return value_at<std::int64_t>(v.data, i);
+    default:
+      return value_at<std::uint64_t>(v.data, i);
+  }
+}
+
+}  // namespace
+
+std::vector<Variable> numeric_variables(const std::filesystem::path& file) {
+  File m = open_read(file);
+  std::vector<Variable> out;
+  while (Var v{Mat_VarReadNextInfo(m.get())}) {
+    if (!v->name || !numeric_class(v->class_type) || v->rank != 2) continue;
+    out.push_back({v->name, v->dims[0], v->dims[1], v->isComplex != 0});
+  }
+  return out;
+}
+
+namespace {
+
+Var read_numeric(mat_t* m, const std::filesystem::path& file, const std::string& name) {
+  const std::string where = file.string() + ": variable '" + name + "'";
+  Var v{Mat_VarRead(m, name.c_str())};
+  if (!v) {
+    std::string names;
+    for (const auto& n : numeric_variables(file)) names += (names.empty() ? "" : ", ") + n.name;
+    throw InputError(where + " is not in the file (numeric variables: " +
+                     (names.empty() ? "none" : names) + ")" + matio_said());
+  }
+  if (!numeric_class(v->class_type) || v->rank != 2 || !v->data) {
+    throw InputError(where + " is not a numeric vector or matrix" +
+                     (v->rank != 2 ? " (" + std::to_string(v->rank) + "-D)" : std::string()));
+  }
+  if (v->isComplex) throw InputError(where + " is complex: a signal channel must be real");
+  return v;
+}
+
+}  // namespace
+
+Eigen::MatrixXd read_matrix(const std::filesystem::path& file, const std::string& name) {
+  File m = open_read(file);
+  const Var v = read_numeric(m.get(), file, name);
+  const std::size_t rows = v->dims[0], cols = v->dims[1];
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
+  for (std::size_t i = 0; i < rows * cols; ++i) out.data()[i] = element(*v, i);  // column-major
+  return out;
+}
+
+Eigen::VectorXd read_vector(const std::filesystem::path& file, const std::string& name,
+                            std::optional<std::size_t> column) {
+  File m = open_read(file);
+  const Var v = read_numeric(m.get(), file, name);
+  const std::string where = file.string() + ": variable '" + name + "'";
+  const std::size_t rows = v->dims[0], cols = v->dims[1];
+  const bool vec = rows == 1 || cols == 1;
+  std::size_t first = 0, count = rows * cols;
+  if (column) {
+    if (*column >= cols) {
+      throw InputError(where + ": column " + std::to_string(*column) +
+                       " (0-based) is out of range: " + std::to_string(rows) + " x " +
+                       std::to_string(cols));
+    }
+    first = *column * rows;  // column-major
+    count = rows;
+  } else if (!vec) {
+    throw InputError(where + " is a " + std::to_string(rows) + " x " + std::to_string(cols) +
+                     " matrix: name one of its columns");
+  }
+  Eigen::VectorXd out(static_cast<Eigen::Index>(count));
+  for (std::size_t i = 0; i < count; ++i) {
+    out[static_cast<Eigen::Index>(i)] = element(*v, first + i);
+  }
+  return out;
+}
+
+bool v73_supported() {
+  init_log();
+  const auto probe = std::filesystem::temp_directory_path() /
+                     ("chatterlab-mat73-probe-" + std::to_string(::getpid()) + ".mat");
+  mat_t* m = Mat_CreateVer(probe.c_str(), nullptr, MAT_FT_MAT73);
+  const bool ok = m != nullptr;
+  if (m) Mat_Close(m);
+  std::error_code ec;
+  std::filesystem::remove(probe, ec);
+  matio_said();  // drop the log of a failed probe
+  return ok;
+}
+
+void write_mat(const std::filesystem::path& file,
+               const std::vector<std::pair<std::string, Eigen::MatrixXd>>& variables,
+               Version version) {
+  init_log();
+  const char* what = version == Version::kV73 ? "v7.3" : "v5";
+  File m(
+      Mat_CreateVer(file.c_str(), nullptr, version == Version::kV73 ? MAT_FT_MAT73 : MAT_FT_MAT5));
+  if (!m) {
+    throw InputError(file.string() + ": cannot create a " + what + " .mat file" + matio_said());
+  }
+  for (const auto& [name, value] : variables) {
+    std::size_t dims[2] = {static_cast<std::size_t>(value.rows()),
+                           static_cast<std::size_t>(value.cols())};
+    Eigen::MatrixXd copy = value;  // column-major, as .mat stores it
+    Var v{Mat_VarCreate(name.c_str(), MAT_C_DOUBLE, MAT_T_DOUBLE, 2, dims, copy.data(),
+                        MAT_F_DONT_COPY_DATA)};
+    if (!v || Mat_VarWrite(m.get(), v.get(), MAT_COMPRESSION_NONE) != 0) {
+      throw InputError(file.string() + ": cannot write variable '" + name + "'" + matio_said());
+    }
+    v->data = nullptr;  // owned by `copy`
+  }
+}
+
+}  // namespace chatterlab::app::mat

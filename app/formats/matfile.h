@@ -1,0 +1,48 @@
+// MATLAB .mat files (v5 and v7.3, the latter HDF5-based) through libmatio: the numeric
+// variables of a file and one of them as a vector, for signal channels stored by MATLAB,
+// Simcenter, LabVIEW or scipy.io.savemat.
+#pragma once
+
+#include <Eigen/Core>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace chatterlab::app::mat {
+
+// One numeric variable (double, single, integer or logical; 2-D) of a .mat file.
+struct Variable {
+  std::string name;
+  std::size_t rows = 0, cols = 0;
+  bool complex = false;
+  bool vector() const { return (rows == 1 || cols == 1) && rows * cols > 1; }
+  bool scalar() const { return rows == 1 && cols == 1; }
+};
+
+// The numeric 2-D variables in file order; structs, cells, strings, sparse and N-D arrays are
+// left out. Throws InputError naming the file when it cannot be opened as a .mat file.
+std::vector<Variable> numeric_variables(const std::filesystem::path& file);
+
+// Variable `name` as a vector: a row or column vector whole, or column `column` (0-based) of a
+// matrix (required for a matrix). Throws InputError naming the file and the variable when it is
+// missing, not numeric, complex, N-D, or the column is out of range.
+Eigen::VectorXd read_vector(const std::filesystem::path& file, const std::string& name,
+                            std::optional<std::size_t> column = std::nullopt);
+
+// Variable `name` whole (rows x cols), under the same checks as read_vector.
+Eigen::MatrixXd read_matrix(const std::filesystem::path& file, const std::string& name);
+
+enum class Version { kV5, kV73 };
+
+// Whether this libmatio writes (and reads) v7.3 files: it was built with HDF5.
+bool v73_supported();
+
+// Writes double matrices as variables (uncompressed). Throws InputError naming the file when
+// it cannot be created (v7.3 without HDF5 support included) or a variable cannot be written.
+void write_mat(const std::filesystem::path& file,
+               const std::vector<std::pair<std::string, Eigen::MatrixXd>>& variables,
+               Version version = Version::kV5);
+
+}  // namespace chatterlab::app::mat
