@@ -1,12 +1,17 @@
 #include "app/kinds/tap/tap_kind.h"
 
+#include <cctype>
 #include <cmath>
 #include <complex>
+#include <filesystem>
+#include <set>
 
 #include "analysis/common/constants.h"
 #include "analysis/frf/mode.h"
 #include "app/core/format.h"
 #include "app/core/yaml_reader.h"
+#include "app/formats/frf_text.h"
+#include "app/formats/uff58.h"
 #include "app/kinds/tap/tap_synth.h"
 #include "app/report/figure_jobs.h"
 #include "app/report/results_json.h"
@@ -31,18 +36,31 @@ void push_phase(render::Series& s, double f, double deg) {
   s.y.push_back(deg);
 }
 
-json tap_json(const TapOutcome& t) {
+json tap_json(const TapOutcome& t, const std::string& id) {
   json j;
-  j["hits_used"] = t.hits_used;
-  json hits = json::array();
-  for (const auto& h : t.hits) {
-    json e = {{"time_s", h.time_s}, {"peak_force_N", h.peak_N}, {"accepted", h.accepted}};
-    if (!h.accepted) e["rejected_because"] = h.reason;
-    hits.push_back(e);
+  if (t.from_file) {
+    // No hits: the FRF came measured (docs/format/results-json.md, "kind tap").
+    j["frf_source"] = "file";
+    j["frf_input"] = (id.empty() ? "" : id + "/") + t.frf_file;
+    j["frf_columns"] = t.frf_columns;
+    if (std::isfinite(t.exp_window_tau_s)) j["exp_window_tau_s"] = t.exp_window_tau_s;
+  } else {
+    j["frf_source"] = "hits";
+    j["hits_used"] = t.hits_used;
+    json hits = json::array();
+    for (const auto& h : t.hits) {
+      json e = {{"time_s", h.time_s}, {"peak_force_N", h.peak_N}, {"accepted", h.accepted}};
+      if (!h.accepted) e["rejected_because"] = h.reason;
+      hits.push_back(e);
+    }
+    j["hits"] = hits;
+    j["exp_window_tau_s"] = number_or_null(t.exp_window_tau_s);
   }
-  j["hits"] = hits;
   j["frequency_resolution_hz"] = number_or_null(t.df_hz);
-  j["exp_window_tau_s"] = number_or_null(t.exp_window_tau_s);
+  // Files beside results.json (relative to it): the FRF table and the figure's data.
+  j["frf_csv"] = tap_frf_csv_path(id);
+  j["frf_uff"] = tap_frf_uff_path(id);
+  j["figure_data"] = {{"frf", figure_stem("tap", id) + "frf.csv"}};
   if (t.fit_ok) {
     json modes = json::array();
     for (std::size_t i = 0; i < t.modes.size(); ++i) {
@@ -77,6 +95,8 @@ json tap_context(const TestOutcome& t, const std::string& figure) {
   j["response"] = spec.response;
   j["hits_used"] = tap.hits_used;
   j["hits_total"] = tap.hits.size();
+  j["frf_from_file"] = tap.from_file;
+  j["frf_file"] = tap.frf_file;
   j["df_hz"] = fmt_sig(tap.df_hz, 3);
   if (std::isfinite(tap.exp_window_tau_s)) j["exp_tau_ms"] = fmt_sig(tap.exp_window_tau_s * 1e3, 3);
   j["band_lo_hz"] = fmt_sig(tap.band_lo_hz, 4);
@@ -121,8 +141,89 @@ std::string hammer_value(const TestSpec& t) {
 }  // namespace
 
 std::vector<std::string> TapKind::keys() const {
-  return {"axis", "response", "hits", "band_hz", "modes"};
+  return {"axis", "response", "hits", "band_hz", "modes", "frf"};
 }
+
+std::vector<std::string> TapKind::required_channels(const TestSpec& t) const {
+  const auto* s = dynamic_cast<const TapSpec*>(t.params.get());
+  if (s && s->frf) return {};
+  return {"force", "response"};
+}
+
+std::vector<std::filesystem::path> TapKind::input_files(const TestSpec& t) const {
+  const auto* s = dynamic_cast<const TapSpec*>(t.params.get());
+  if (!s || !s->frf || s->frf->file.empty()) return {};
+  return {t.folder / s->frf->file};
+}
+
+namespace {
+
+// test.yaml `frf: {file, delimiter, decimal, record, exp_window_tau_s}`.
+std::optional<TapFrfInput> parse_frf(const YAML::Node& root, YamlReader& r) {
+  const YAML::Node node = root["frf"];
+  if (!node) return std::nullopt;
+  TapFrfInput in;
+  if (!node.IsMap()) {
+    r.error("frf", "must be a mapping such as {file: frf.csv}");
+    return in;
+  }
+  r.check_keys(node, {"file", "delimiter", "decimal", "record", "exp_window_tau_s"}, "frf");
+  in.file = r.required_string(node, "file", "frf");
+  if (!in.file.empty()) {
+    std::string ext = std::filesystem::path(in.file).extension().string();
+    for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    static const std::set<std::string> kText = {".csv", ".txt", ".tsv", ".dat", ".asc", ".frf"};
+    if (!kText.count(ext) && ext != ".uff" && ext != ".unv") {
+      r.error("frf.file", "'" + in.file +
+                              "': unsupported FRF format (use text .csv, .txt, .tsv, .dat, .asc, "
+                              ".frf or UFF58 .uff, .unv)");
+    }
+  }
+  if (const auto d = r.optional_string(node, "delimiter", "frf")) {
+    if (*d == "," || *d == ";") {
+      in.delimiter = (*d)[0];
+    } else if (*d == "tab" || *d == "\t" || *d == "\\t") {
+      in.delimiter = '\t';
+    } else if (*d == "whitespace" || *d == " ") {
+      in.delimiter = ' ';
+    } else {
+      r.error("frf.delimiter", "'" + *d + "': must be ',', ';', tab or whitespace");
+    }
+  }
+  if (const auto d = r.optional_string(node, "decimal", "frf")) {
+    if (*d == "." || *d == ",") {
+      in.decimal = (*d)[0];
+    } else {
+      r.error("frf.decimal", "'" + *d + "': must be '.' or ','");
+    }
+  }
+  if (in.delimiter == ',' && in.decimal == ',') {
+    r.error("frf.decimal", "',' needs another delimiter than ','");
+  }
+  if (const auto n = r.optional_double(node, "record", "frf")) {
+    if (!(*n >= 1) || *n != std::floor(*n)) {
+      r.error("frf.record", "must be a whole number >= 1");
+    } else {
+      in.record = static_cast<int>(*n);
+    }
+  }
+  if (const auto tau = r.optional_double(node, "exp_window_tau_s", "frf")) {
+    if (!(*tau >= 0)) {
+      r.error("frf.exp_window_tau_s", "must be >= 0");
+    } else {
+      in.exp_window_tau_s = *tau;
+    }
+  }
+  if (root["hits"]) r.error("hits", "not used with frf (a measured FRF has no hits)");
+  if (root["data"]) {
+    r.error("data",
+            "not used with frf: give a time record with hits (data) or a measured FRF "
+            "(frf), not both");
+  }
+  return in;
+}
+
+}  // namespace
 
 std::shared_ptr<const KindSpec> TapKind::parse(const YAML::Node& root, YamlReader& r) const {
   auto spec = std::make_shared<TapSpec>();
@@ -132,6 +233,7 @@ std::shared_ptr<const KindSpec> TapKind::parse(const YAML::Node& root, YamlReade
     r.error("axis", "must be x or y, got '" + s.axis + "'");
   }
   s.response = r.required_string(root, "response");
+  s.frf = parse_frf(root, r);
   if (!s.response.empty() && s.response != "acceleration" && s.response != "velocity" &&
       s.response != "displacement") {
     r.error("response", "must be acceleration, velocity or displacement, got '" + s.response + "'");
@@ -200,7 +302,114 @@ void TapKind::publish(const TestOutcome& out, CampaignValues& values) const {
 }
 
 json TapKind::results(const TestOutcome& out) const {
-  return tap_json(out.result_of<TapOutcome>());
+  return tap_json(out.result_of<TapOutcome>(), out.spec->id);
+}
+
+std::string tap_frf_csv_path(const std::string& test_id) {
+  return (test_id.empty() ? std::string() : test_id + "/") + "frf.csv";
+}
+
+void write_tap_frf_csv(const TapOutcome& tap, const std::string& test_id,
+                       const std::filesystem::path& file) {
+  const Eigen::Index n = tap.f_hz.size();
+  auto part = [&](const Eigen::VectorXcd& h, bool imag) {
+    Eigen::VectorXd v = Eigen::VectorXd::Constant(n, std::nan(""));
+    for (Eigen::Index i = 0; i < std::min(n, h.size()); ++i)
+      v[i] = imag ? h[i].imag() : h[i].real();
+    return v;
+  };
+  std::vector<std::string> comments = {
+      "chatterlab " + std::string(CHATTERLAB_VERSION) + ", tap test " +
+          (test_id.empty() ? std::string(".") : test_id),
+      "receptance in m/N; re, im: H1" +
+          std::string(tap.from_file ? " (as read from " + tap.frf_file + ")" : "") +
+          "; h2_re, h2_im: H2; fit_re, fit_im: the fitted modal model (empty when the fit failed)"};
+  if (std::isfinite(tap.exp_window_tau_s)) {
+    comments.push_back(
+        "exponential window tau = " + fmt_sig(tap.exp_window_tau_s, 6) +
+        " s applied to H1, H2 and the fit (frf: {exp_window_tau_s} to read it back)");
+  }
+  if (tap.fit_ok) {
+    comments.push_back("fit band " + fmt_sig(tap.band_lo_hz, 6) + " - " +
+                       fmt_sig(tap.band_hi_hz, 6) + " Hz; the model is written on every row");
+  }
+  Eigen::VectorXd coh = tap.coherence.size() == n ? tap.coherence : Eigen::VectorXd::Ones(n);
+  std::vector<frf_text::Column> cols = {
+      {"f_hz", tap.f_hz},
+      {"re", part(tap.h1, false)},
+      {"im", part(tap.h1, true)},
+      {"coherence", coh},
+      {"h2_re", part(tap.h2, false)},
+      {"h2_im", part(tap.h2, true)},
+      {"fit_re", part(tap.fit_ok ? tap.fitted : Eigen::VectorXcd(), false)},
+      {"fit_im", part(tap.fit_ok ? tap.fitted : Eigen::VectorXcd(), true)}};
+  if (!tap.has_coherence) cols.erase(cols.begin() + 3);
+  std::filesystem::create_directories(file.parent_path());
+  frf_text::write_csv(file, comments, cols);
+}
+
+std::string tap_frf_uff_path(const std::string& test_id) {
+  return (test_id.empty() ? std::string() : test_id + "/") + "frf.uff";
+}
+
+void write_tap_frf_uff(const TapOutcome& tap, const std::string& test_id, const std::string& axis,
+                       const std::filesystem::path& file) {
+  const std::string id = test_id.empty() ? std::string(".") : test_id;
+  const int direction = axis == "y" ? 2 : 1;
+  auto function = [&](const std::string& name, int type) {
+    uff::Function58 f;
+    f.id1 = name + " " + id;
+    f.id2 = "chatterlab " + std::string(CHATTERLAB_VERSION);
+    f.id4 = tap.from_file ? "measured FRF read from " + tap.frf_file : "impact hammer test";
+    f.function_type = type;
+    f.response_entity = f.reference_entity = "tool";
+    f.response_node = f.reference_node = 1;
+    f.response_direction = f.reference_direction = direction;
+    f.x_start = tap.f_hz[0];
+    f.dx = tap.df_hz;
+    // Bins that are not evenly spaced to the printed precision of dx: every abscissa value.
+    for (Eigen::Index i = 0; i < tap.f_hz.size(); ++i) {
+      if (std::abs(tap.f_hz[i] - (f.x_start + static_cast<double>(i) * f.dx)) > 1e-9 * f.dx) {
+        f.x = tap.f_hz;
+        break;
+      }
+    }
+    f.x_label = "Frequency";
+    f.x_unit = "Hz";
+    return f;
+  };
+  std::vector<uff::Function58> fs;
+  auto add_frf = [&](const std::string& name, const Eigen::VectorXcd& h) {
+    uff::Function58 f = function(name, uff::kFrf);
+    f.complex_ordinate = true;
+    f.values = h;
+    f.y_label = "Displacement";
+    f.y_unit = "m";
+    f.z_label = "Force";
+    f.z_unit = "N";
+    fs.push_back(std::move(f));
+  };
+  add_frf("H1", tap.h1);
+  if (!tap.from_file) add_frf("H2", tap.h2);
+  if (tap.fit_ok && tap.fitted.size() == tap.f_hz.size()) add_frf("fit", tap.fitted);
+  if (tap.has_coherence && tap.coherence.size() == tap.f_hz.size()) {
+    uff::Function58 c = function("coherence", uff::kCoherence);
+    c.real = tap.coherence;
+    c.y_label = "Coherence";
+    c.y_unit = "";
+    fs.push_back(std::move(c));
+  }
+  std::filesystem::create_directories(file.parent_path());
+  uff::write_uff58(file, fs);
+}
+
+void TapKind::write_files(const TestOutcome& out, const std::filesystem::path& report_dir) const {
+  const TapOutcome& tap = out.result_of<TapOutcome>();
+  if (tap.f_hz.size() < 2) return;
+  const std::string& id = out.spec->id;
+  write_tap_frf_csv(tap, id, report_dir / tap_frf_csv_path(id));
+  write_tap_frf_uff(tap, id, out.spec->kind_spec<TapSpec>().axis,
+                    report_dir / tap_frf_uff_path(id));
 }
 
 json TapKind::settings(const CampaignSpec&) const {
@@ -329,7 +538,13 @@ render::Figure tap_frf_figure(const TapOutcome& tap) {
   a.y_label = "|receptance| [m/N]";
   a.log_x = a.log_y = true;
   a.relative_height = 2.2;
-  a.series = {mag1, mag2};
+  // A measured FRF read from a file has no H2 (H2 = H1) and a coherence only if the file had one.
+  if (tap.from_file) {
+    mag1.label = ph1.label = "measured";
+    a.series = {mag1};
+  } else {
+    a.series = {mag1, mag2};
+  }
   if (!fit_mag.x.empty()) a.series.push_back(fit_mag);
   render::Axes& p = fig.panels.emplace_back();
   p.y_label = "phase [deg]";
@@ -339,6 +554,12 @@ render::Figure tap_frf_figure(const TapOutcome& tap) {
   p.series = {ph1};
   if (!fit_ph.x.empty()) p.series.push_back(fit_ph);
   p.legend = render::LegendPosition::kNone;
+  if (!tap.has_coherence) {
+    fig.height_in = 4.4;
+    fig.panels.back().x_label = "frequency [Hz]";
+    for (auto& ax : fig.panels) ax.x_range = render::Range{lo, hi};
+    return fig;
+  }
   render::Axes& c = fig.panels.emplace_back();
   c.x_label = "frequency [Hz]";
   c.y_label = "coherence [-]";

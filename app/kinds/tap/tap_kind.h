@@ -21,15 +21,16 @@ class TapKind : public TestKind {
   std::string name() const override { return "tap"; }
   std::vector<std::string> keys() const override;
   std::shared_ptr<const KindSpec> parse(const YAML::Node& root, YamlReader& r) const override;
-  std::vector<std::string> required_channels(const TestSpec&) const override {
-    return {"force", "response"};
-  }
+  std::vector<std::string> required_channels(const TestSpec& t) const override;
+  std::vector<std::filesystem::path> input_files(const TestSpec& t) const override;
   std::vector<std::string> provides(const TestSpec& t) const override;
   std::string describe_value(const std::string& name) const override;
   void run(const TestSpec& t, const CampaignValues& in, const RunContext& ctx,
            TestOutcome& out) const override;
   void publish(const TestOutcome& out, CampaignValues& values) const override;
   nlohmann::json results(const TestOutcome& out) const override;
+  // <test>/frf.csv and frf.uff: the measured and fitted FRF (docs/format/results-json.md, "Files").
+  void write_files(const TestOutcome& out, const std::filesystem::path& report_dir) const override;
   nlohmann::json settings(const CampaignSpec&) const override;
   std::string note(const TestOutcome& out) const override;
   void figures(const CampaignResults&, const TestOutcome& out, FigureJobs& jobs) const override;
@@ -46,6 +47,20 @@ class TapKind : public TestKind {
  private:
   TapStepOptions options_;
 };
+
+// The files a tap test writes beside results.json, relative to the report folder ("tap/x/frf.csv").
+std::string tap_frf_csv_path(const std::string& test_id);
+
+// <test>/frf.uff: H1, H2 (not for an FRF read from a file), the fit (function type 4, m/N) and
+// the coherence (type 6) as ASCII UFF58, node 1, direction +1 (x) or +2 (y).
+std::string tap_frf_uff_path(const std::string& test_id);
+void write_tap_frf_uff(const TapOutcome& tap, const std::string& test_id, const std::string& axis,
+                       const std::filesystem::path& file);
+
+// Writes the FRF of a tap test as CSV (f_hz, re, im = H1, coherence, h2_re, h2_im, fit_re,
+// fit_im, with a commented header stating units and provenance); read back by frf_text.
+void write_tap_frf_csv(const TapOutcome& tap, const std::string& test_id,
+                       const std::filesystem::path& file);
 
 // The FRF figure of a tap test: |H1|, |H2| and the fit, phase, coherence (exposed for tests).
 render::Figure tap_frf_figure(const TapOutcome& tap);

@@ -27,6 +27,16 @@ struct TapStepOptions {
   frf::ModalFitOptions fit;
 };
 
+// test.yaml `frf:` of a tap test that gives a measured FRF instead of hits (docs/tap-tests.md,
+// "A measured FRF as input").
+struct TapFrfInput {
+  std::string file;    // relative to the test folder
+  char delimiter = 0;  // text files: as frf_text::ReadOptions
+  char decimal = 0;
+  int record = 0;  // UFF58: 1-based among the file's FRF records (function type 4); 0: the only
+  double exp_window_tau_s = 0.0;  // an exponential window the FRF already carries (0: none)
+};
+
 // test.yaml keys of a tap test (docs/formats.md).
 struct TapSpec : KindSpec {
   std::string axis;      // "x" or "y"
@@ -34,7 +44,8 @@ struct TapSpec : KindSpec {
   bool hits_auto = true;
   std::vector<std::pair<double, double>> hit_windows_s;
   std::optional<std::pair<double, double>> band_hz;
-  int modes = 0;  // 0: automatic
+  int modes = 0;                   // 0: automatic
+  std::optional<TapFrfInput> frf;  // set: the FRF comes from this file (no data, no hits)
 };
 
 struct TapHitInfo {
@@ -45,7 +56,12 @@ struct TapHitInfo {
 };
 
 struct TapOutcome : KindResult {
-  StepSummary summary;  // ok when the FRF exists (the fit may still have failed: fit_ok)
+  StepSummary summary;
+  // FRF from a file (test.yaml `frf:`): no hits, H2 = H1, coherence 1 unless the file has it.
+  bool from_file = false;
+  std::string frf_file;       // as test.yaml names it (relative to the test folder)
+  std::string frf_columns;    // how the file's columns were read
+  bool has_coherence = true;  // ok when the FRF exists (the fit may still have failed: fit_ok)
   std::vector<std::string> warnings;
   std::vector<TapHitInfo> hits;
   int hits_used = 0;
@@ -66,6 +82,11 @@ struct TapOutcome : KindResult {
 
 // test.yaml's `response` (acceleration | velocity | displacement, validated by the loader).
 frf::ResponseKind response_kind_of(const std::string& response);
+
+// The measured FRF of a tap test that names one (test.yaml `frf:`), as receptance with the
+// file's coherence (1 where it has none). Throws InputError naming the file (and line, key).
+frf::Frf read_tap_frf(const TestSpec& t, std::vector<std::string>* warnings = nullptr,
+                      std::string* columns = nullptr, bool* has_coherence = nullptr);
 
 // Runs the step on one tap test. Bad input throws InputError (the caller skips the test).
 TapOutcome run_tap_test(const TestSpec& t, const TapStepOptions& options);
