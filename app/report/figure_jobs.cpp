@@ -1,7 +1,11 @@
 #include "app/report/figure_jobs.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
 
+#include "analysis/common/summary.h"
 #include "app/core/parallel.h"
 #include "render/gnuplot_backend.h"
 
@@ -19,9 +23,83 @@ void FigureJobs::add(const std::string& owner, const std::string& key, const std
   jobs_.push_back({owner, key, stem, std::move(figure)});
 }
 
+namespace {
+
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) {
+    if (c == '"') q += '"';
+    q += c == '\n' ? ' ' : c;
+  }
+  return q + "\"";
+}
+
+std::string one_line(std::string s) {
+  std::replace(s.begin(), s.end(), '\n', ' ');
+  return s;
+}
+
+}  // namespace
+
+void write_figure_csv(const render::Figure& figure, const std::filesystem::path& file,
+                      const std::string& title) {
+  std::ofstream out(file);
+  if (!out) throw InputError(file.filename().string() + ": cannot be written");
+  out << "# chatterlab figure data: " << one_line(title) << "\n";
+  // With a shared x axis only the bottom panel carries the x label: it holds for every panel.
+  std::string shared_x;
+  if (figure.share_x && !figure.panels.empty()) shared_x = figure.panels.back().x_label;
+  for (std::size_t p = 0; p < figure.panels.size(); ++p) {
+    const render::Axes& a = figure.panels[p];
+    const std::string x = a.x_label.empty() ? shared_x : a.x_label;
+    out << "# panel " << p + 1 << ": x = " << one_line(x.empty() ? "-" : x)
+        << (a.log_x ? " (log)" : "") << ", y = " << one_line(a.y_label.empty() ? "-" : a.y_label)
+        << (a.log_y ? " (log)" : "");
+    if (!a.title.empty()) out << ", title: " << one_line(a.title);
+    out << "\n";
+  }
+  out << "panel,series,x,y\n";
+  char buf[64];
+  auto num = [&](double v) -> std::string {
+    if (!std::isfinite(v)) return "";
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    return buf;
+  };
+  for (std::size_t p = 0; p < figure.panels.size(); ++p) {
+    const render::Axes& a = figure.panels[p];
+    for (std::size_t k = 0; k < a.series.size(); ++k) {
+      const render::Series& s = a.series[k];
+      const std::string prefix =
+          std::to_string(p + 1) + "," +
+          csv_field(s.label.empty() ? "series " + std::to_string(k + 1) : s.label) + ",";
+      if (!s.xf.empty() || !s.yf.empty()) {
+        for (std::size_t i = 0; i < std::min(s.xf.size(), s.yf.size()); ++i) {
+          const std::string xs = num(s.xf[i]);
+          out << prefix << xs << ',' << num(s.yf[i]) << '\n';
+        }
+      } else {
+        for (std::size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i) {
+          const std::string xs = num(s.x[i]);
+          out << prefix << xs << ',' << num(s.y[i]) << '\n';
+        }
+      }
+    }
+  }
+  if (!out) throw InputError(file.filename().string() + ": write failed");
+}
+
 FigureSet FigureJobs::draw(const std::filesystem::path& out, int jobs) const {
   std::vector<std::string> errors(jobs_.size());
+  std::vector<std::string> data_errors(jobs_.size());
   parallel_for(jobs_.size(), jobs, [&](std::size_t i) {
+    try {
+      const std::filesystem::path csv = out / (jobs_[i].stem + ".csv");
+      std::filesystem::create_directories(csv.parent_path());
+      write_figure_csv(jobs_[i].figure, csv, jobs_[i].stem);
+    } catch (const std::exception& e) {
+      data_errors[i] = "data of figure " + jobs_[i].stem + " not written: " + e.what();
+    }
     try {
       render::render_report_figure(jobs_[i].figure, out / jobs_[i].stem);
     } catch (const std::exception& e) {
@@ -30,6 +108,11 @@ FigureSet FigureJobs::draw(const std::filesystem::path& out, int jobs) const {
   });
   FigureSet set;
   for (std::size_t i = 0; i < jobs_.size(); ++i) {
+    if (data_errors[i].empty()) {
+      set.data[jobs_[i].owner][jobs_[i].key] = jobs_[i].stem + ".csv";
+    } else {
+      set.errors.push_back(data_errors[i]);
+    }
     if (errors[i].empty()) {
       set.stems[jobs_[i].owner][jobs_[i].key] = jobs_[i].stem;
     } else {

@@ -16,7 +16,10 @@ struct FigureSet {
   // owner (test id, or "group:<name>") -> figure key -> stem relative to the report folder
   // (stem.svg on screen, stem.png in print). A figure that could not be drawn is absent.
   std::map<std::string, std::map<std::string, std::string>> stems;
-  std::vector<std::string> errors;  // figures that could not be drawn
+  // owner -> figure key -> the figure's data file relative to the report folder
+  // ("figures/<stem>.csv", write_figure_csv), written whether or not the figure could be drawn.
+  std::map<std::string, std::map<std::string, std::string>> data;
+  std::vector<std::string> errors;  // figures that could not be drawn (or their data written)
 
   // The stem of figure `key` of `owner`; empty when it was not drawn.
   std::string of(const std::string& owner, const std::string& key) const;
@@ -24,7 +27,7 @@ struct FigureSet {
 
 class FigureJobs {
  public:
-  // Figure `key` of `owner`, written to <report>/<stem>.svg and .png.
+  // Figure `key` of `owner`, written to <report>/<stem>.svg and .png, its data to <stem>.csv.
   void add(const std::string& owner, const std::string& key, const std::string& stem,
            render::Figure figure);
   std::size_t size() const { return jobs_.size(); }
@@ -39,6 +42,18 @@ class FigureJobs {
   };
   std::vector<Job> jobs_;
 };
+
+// The data behind a figure as CSV (docs/format/results-json.md, "Figure data"), long format:
+//   # chatterlab figure data: <title>
+//   # panel 1: x = <x label> (log), y = <y label> (log)       one line per panel
+//   panel,series,x,y
+//   1,H1,100,1.5e-06                                          one row per point, in order
+// `panel` is 1-based from the top; `series` is the legend text ("series <n>", 1-based in its
+// panel, when it has none; quoted when it holds a comma or a quote); every point of the series
+// as the figure model holds it (before any reduction for drawing), 17 significant digits; an
+// empty x or y is NaN or infinite (a break in the line). Throws InputError when it cannot write.
+void write_figure_csv(const render::Figure& figure, const std::filesystem::path& file,
+                      const std::string& title);
 
 // "figures/<prefix>-<id with / as ->-": the stem prefix of a test's figures ("root" for the
 // campaign root's test).

@@ -34,6 +34,8 @@ class CutKind : public TestKind {
   void run(const TestSpec& t, const CampaignValues& in, const RunContext& ctx,
            TestOutcome& out) const override;
   nlohmann::json results(const TestOutcome& t) const override;
+  // <test>/identified.csv: the test's identified values (cut_results.cpp).
+  void write_files(const TestOutcome& t, const std::filesystem::path& report_dir) const override;
   void campaign_results(const CampaignResults& r, nlohmann::json& root) const override;
   nlohmann::json settings(const CampaignSpec& c) const override;
   std::string note(const TestOutcome& t) const override;
@@ -59,6 +61,11 @@ CutStepInputs cut_inputs(const CampaignSpec& c, const CampaignValues& values);
 // (docs/identification.md): the first constant-depth cut test (by id) whose identification
 // succeeded, else the first ramped one; null when none succeeded.
 const TestOutcome* identification_source(const CampaignResults& r);
+
+// "<test>/identified.csv", relative to the report folder; the unit of a results key by its
+// suffix ("k_N_m" -> "N/m", "-" for none).
+std::string identified_csv_path(const std::string& test_id);
+std::string unit_of_key(const std::string& key);
 
 // Reference values of a cut test's estimates for the percent-error figures (000 figs 6.1-6.17),
 // by key (m_kg, Kt1_N_m2, ...), with where each came from: test.yaml `reference` first, then

@@ -2,6 +2,9 @@
 // bifurcation, identification passes, every estimator variant, and the campaign's
 // `identified` block.
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
 
 #include "app/kinds/cut/cut_kind.h"
 #include "app/report/results_json.h"
@@ -197,13 +200,65 @@ json cut_json(const CutOutcome& c) {
 
 }  // namespace
 
-json CutKind::results(const TestOutcome& t) const { return cut_json(t.result_of<CutOutcome>()); }
+json CutKind::results(const TestOutcome& t) const {
+  json j = cut_json(t.result_of<CutOutcome>());
+  if (t.result_of<CutOutcome>().estimation.summary.ok())
+    j["identified_csv"] = identified_csv_path(t.spec->id);
+  return j;
+}
+
+std::string identified_csv_path(const std::string& test_id) {
+  return (test_id.empty() ? std::string() : test_id + "/") + "identified.csv";
+}
+
+std::string unit_of_key(const std::string& key) {
+  // Longest suffix first: _N_m2 before _N_m, _kg_s before _s.
+  static const std::pair<const char*, const char*> kUnits[] = {
+      {"_N_m2", "N/m^2"}, {"_N_m", "N/m"}, {"_kg_s", "kg/s"}, {"_kg", "kg"},
+      {"_per_m", "1/m"},  {"_hz", "Hz"},   {"_deg", "deg"},   {"_s", "s"}};
+  for (const auto& [suffix, unit] : kUnits) {
+    const std::string sf(suffix);
+    if (key.size() > sf.size() && key.compare(key.size() - sf.size(), sf.size(), sf) == 0) {
+      return unit;
+    }
+  }
+  return "-";
+}
+
+// The identified values of one cut test as a table: quantity,value,unit (the keys of
+// results.json `identified`, in its order; an empty value for a non-finite one).
+void CutKind::write_files(const TestOutcome& t, const std::filesystem::path& report_dir) const {
+  const CutOutcome& c = t.result_of<CutOutcome>();
+  if (!c.estimation.summary.ok()) return;
+  const std::filesystem::path file = report_dir / identified_csv_path(t.spec->id);
+  std::filesystem::create_directories(file.parent_path());
+  std::ofstream out(file);
+  out << "# chatterlab " << CHATTERLAB_VERSION << ": values identified from cut test "
+      << (t.spec->id.empty() ? std::string(".") : t.spec->id)
+      << " (results.json tests.<id>.identification.identified; the campaign's `identified` when "
+         "identified_from names this test)\n";
+  out << "quantity,value,unit\n";
+  std::vector<std::pair<std::string, double>> rows =
+      keyed_values(c.estimation.modal, c.estimation.coefficients);
+  for (const auto& kv : scale_free_values(c.estimation)) rows.push_back(kv);
+  char buf[40];
+  for (const auto& [key, v] : rows) {
+    out << key << ',';
+    if (std::isfinite(v)) {
+      std::snprintf(buf, sizeof buf, "%.17g", v);
+      out << buf;
+    }
+    out << ',' << unit_of_key(key) << '\n';
+  }
+  if (!out) throw InputError(identified_csv_path(t.spec->id) + ": cannot be written");
+}
 
 // The identification of one cut test (docs/identification.md, "Campaign values").
 void CutKind::campaign_results(const CampaignResults& r, json& root) const {
   if (const TestOutcome* src = identification_source(r)) {
     root["identified"] = identified_json(src->result_of<CutOutcome>().estimation);
     root["identified_from"] = src->spec->id;
+    root["identified_csv"] = identified_csv_path(src->spec->id);
   } else {
     root["identified"] = json::object();
   }
