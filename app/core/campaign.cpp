@@ -167,13 +167,14 @@ TestSpec load_test(const fs::path& campaign_root, const fs::path& test_yaml,
     const auto ext = t.data.file.extension().string();
     const bool raw = ext == ".f32" || ext == ".f64";
     read_dialect(data, r, t.data, !raw);
+    t.data.sample_rate_hz = t.sample_rate_hz > 0 ? t.sample_rate_hz : 0.0;
     if (!t.data.relative_file.empty()) {
       if (raw) {
         if (t.data.channels.empty()) r.error("data.channels", "is required for a raw binary file");
-      } else if (!is_text_signal_file(t.data.file)) {
+      } else if (!is_signal_file(t.data.file)) {
         r.error("data.file", "'" + t.data.relative_file +
-                                 "': unsupported signal format (use text .csv, .txt, .tsv, .lvm or "
-                                 "raw .f32, .f64)");
+                                 "': unsupported signal format (use text .csv, .txt, .tsv, .lvm, "
+                                 "raw .f32, .f64, UFF .uff, .unv or MATLAB .mat)");
       }
       if (!fs::exists(t.data.file)) {
         r.error("data.file", "'" + t.data.relative_file + "': file not found");

@@ -44,6 +44,8 @@ struct DataSpec {
   char delimiter = 0;  // ',', ';' or '\t'; 0: detected from the header and the first rows
   char decimal = '.';  // '.' or ','
   int skip_lines = 0;  // lines before the header row
+  // test.yaml's sample_rate_hz, checked against the rate a file states (UFF dx); 0: unchecked.
+  double sample_rate_hz = 0.0;
 };
 
 // A kind's own test.yaml keys, parsed (TapSpec, CutSpec, ...: each kind derives its own).

@@ -10,6 +10,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <optional>
@@ -17,6 +18,8 @@
 
 #include "analysis/common/summary.h"
 #include "app/core/yaml_reader.h"
+#include "app/formats/matfile.h"
+#include "app/formats/uff58.h"
 
 namespace chatterlab::app {
 
@@ -58,14 +61,6 @@ class MappedFile {
 
 namespace {
 
-std::string trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '"'))
-    s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r' || s.back() == '"'))
-    s.remove_suffix(1);
-  return std::string(s);
-}
-
 template <typename T>
 double load_le(const char* p) {
   T v;
@@ -99,8 +94,54 @@ bool blank(std::string_view line) {
   return line.find_first_not_of(" \t\r") == std::string_view::npos;
 }
 
+// The cells of a delimited line. A cell may be quoted ("1.5", "Force, N" as spreadsheets
+// export them): the quotes go and a delimiter inside them is text. A last cell that is empty or
+// blank (a row ending in the delimiter, as LabVIEW writes its rows) is dropped.
+void split_cells(std::string_view line, char delim, std::vector<std::string_view>& cells,
+                 bool drop_empty_last = true) {
+  constexpr auto npos = std::string_view::npos;
+  cells.clear();
+  std::size_t pos = 0;
+  while (true) {
+    std::size_t q = pos;
+    while (q < line.size() && line[q] != delim && (line[q] == ' ' || line[q] == '\t')) ++q;
+    std::size_t close = npos;
+    if (q < line.size() && line[q] == '"') {
+      close = q + 1;
+      while ((close = line.find('"', close)) != npos && close + 1 < line.size() &&
+             line[close + 1] == '"') {
+        close += 2;  // "" is a quote inside a quoted cell
+      }
+    }
+    const std::size_t d = line.find(delim, close == npos ? pos : close + 1);
+    cells.push_back(close == npos ? line.substr(pos, d == npos ? npos : d - pos)
+                                  : line.substr(q + 1, close - q - 1));
+    if (d == npos) break;
+    pos = d + 1;
+  }
+  if (drop_empty_last && cells.size() > 1 && blank(cells.back())) cells.pop_back();
+}
+
 std::size_t cells_in(std::string_view line, char delim) {
-  return static_cast<std::size_t>(std::count(line.begin(), line.end(), delim)) + 1;
+  std::vector<std::string_view> cells;
+  split_cells(line, delim, cells);
+  return cells.size();
+}
+
+bool comment_cell(std::string_view cell) {
+  std::string_view s = cell;
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
+    s.remove_suffix(1);
+  return s.size() == 7 && (s[0] == 'C' || s[0] == 'c') && s.substr(1) == "omment";
+}
+
+// The columns a header row names: its cells, but a last "Comment" cell (LabVIEW's column that
+// rows leave empty) does not count.
+std::size_t header_columns(std::string_view line, char delim) {
+  std::vector<std::string_view> cells;
+  split_cells(line, delim, cells);
+  return cells.size() - (cells.size() > 1 && comment_cell(cells.back()) ? 1 : 0);
 }
 
 // One cell as a number: blanks around it and a leading '+' allowed; with a decimal comma the
@@ -133,32 +174,23 @@ bool number_in(std::string_view s, char decimal) {
 
 // Cells of `line` split at `delim`, each a number in `decimal`.
 bool numeric_row(std::string_view line, char delim, char decimal, std::size_t* cells) {
-  std::size_t n = 0, pos = 0;
-  while (true) {
-    const std::size_t d = line.find(delim, pos);
-    const std::string_view cell =
-        line.substr(pos, d == std::string_view::npos ? std::string_view::npos : d - pos);
+  std::vector<std::string_view> c;
+  split_cells(line, delim, c);
+  for (const auto& cell : c) {
     if (!number_in(cell, decimal)) return false;
-    ++n;
-    if (d == std::string_view::npos) break;
-    pos = d + 1;
   }
-  *cells = n;
+  *cells = c.size();
   return true;
 }
 
 // A header row: some cell has a letter, and no cell reads as a number (either decimal mark).
 bool names_row(std::string_view line, char delim) {
   bool letter = false;
-  std::size_t pos = 0;
-  while (true) {
-    const std::size_t d = line.find(delim, pos);
-    const std::string_view cell =
-        line.substr(pos, d == std::string_view::npos ? std::string_view::npos : d - pos);
+  std::vector<std::string_view> c;
+  split_cells(line, delim, c);
+  for (const auto& cell : c) {
     if (number_in(cell, '.') || number_in(cell, ',')) return false;
     for (const char ch : cell) letter = letter || std::isalpha(static_cast<unsigned char>(ch));
-    if (d == std::string_view::npos) break;
-    pos = d + 1;
   }
   return letter;
 }
@@ -214,7 +246,7 @@ std::optional<Dialect> sniff(const std::vector<std::string_view>& lines) {
       if (!run) continue;
       std::size_t h = k - 1;
       while (h > 0 && blank(lines[h])) --h;
-      if (blank(lines[h]) || cells_in(lines[h], delim) != n || !names_row(lines[h], delim)) {
+      if (blank(lines[h]) || header_columns(lines[h], delim) != n || !names_row(lines[h], delim)) {
         break;  // the numeric rows start without a header: not this dialect's layout
       }
       if (!best || n > best->columns) best = Dialect{delim, decimal, static_cast<int>(h), n};
@@ -263,10 +295,17 @@ char detect_delimiter(std::string_view header, std::string_view rest, char decim
   }
   for (const char d : {'\t', ';', ','}) {
     if (d == ',' && decimal == ',') continue;
-    const std::size_t n = cells_in(header, d);
-    if (n < 2) continue;
+    // Cells counted both with and without an empty last one (rows ending in the delimiter) and
+    // a LabVIEW Comment column.
+    std::vector<std::string_view> cells;
+    split_cells(header, d, cells, false);
+    const std::size_t n_raw = cells.size(), n = header_columns(header, d);
+    if (n < 2 && n_raw < 2) continue;
     bool same = true;
-    for (std::size_t i = 0; i < nrows && same; ++i) same = cells_in(rows[i], d) == n;
+    for (std::size_t i = 0; i < nrows && same; ++i) {
+      split_cells(rows[i], d, cells, false);
+      same = cells.size() == n_raw || cells_in(rows[i], d) == n;
+    }
     if (same) return d;
   }
   return decimal == ',' ? ';' : ',';
@@ -291,11 +330,55 @@ bool is_text_signal_file(const std::filesystem::path& file) {
   return ext == ".csv" || ext == ".txt" || ext == ".tsv" || ext == ".lvm";
 }
 
+namespace {
+
+bool is_uff_file(const std::filesystem::path& file) {
+  const std::string ext = lower(file.extension().string());
+  return ext == ".uff" || ext == ".unv";
+}
+
+bool is_mat_file(const std::filesystem::path& file) {
+  return lower(file.extension().string()) == ".mat";
+}
+
+// The readers of app/formats name the file by its path; messages here start with the label.
+[[noreturn]] void rethrow_labelled(const InputError& e, const std::filesystem::path& file,
+                                   const std::string& label) {
+  std::string what = e.what();
+  const std::string path = file.string();
+  if (what.compare(0, path.size(), path) == 0) what = label + what.substr(path.size());
+  throw InputError(what);
+}
+
+std::string sig6(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.6g", v);
+  return buf;
+}
+
+void check_finite(const std::vector<double>& c, const std::string& name, const std::string& label) {
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    if (!std::isfinite(c[i])) {
+      throw InputError(label + ": " + (std::isnan(c[i]) ? "NaN" : "infinite") + " value at " +
+                       sample_where(i, name));
+    }
+  }
+}
+
+}  // namespace
+
+bool is_signal_file(const std::filesystem::path& file) {
+  const std::string ext = file.extension().string();
+  return ext == ".f32" || ext == ".f64" || is_text_signal_file(file) || is_uff_file(file) ||
+         is_mat_file(file);
+}
+
 SignalTable::SignalTable(SignalTable&&) noexcept = default;
 SignalTable& SignalTable::operator=(SignalTable&&) noexcept = default;
 SignalTable::~SignalTable() = default;
 
 SignalTable SignalTable::open(const DataSpec& data, const std::string& label) {
+  const double sample_rate_hz = data.sample_rate_hz;
   SignalTable t;
   t.label_ = label;
   if (!std::filesystem::exists(data.file)) throw InputError(label + ": file not found");
@@ -325,11 +408,26 @@ SignalTable SignalTable::open(const DataSpec& data, const std::string& label) {
     }
   } else if (is_text_signal_file(data.file)) {
     t.read_text(data);
+  } else if (is_uff_file(data.file)) {
+    t.read_uff(data);
+  } else if (is_mat_file(data.file)) {
+    t.read_mat(data);
   } else {
     throw InputError(label + ": unsupported signal format '" + ext +
-                     "' (use text .csv, .txt, .tsv, .lvm or raw .f32, .f64)");
+                     "' (use text .csv, .txt, .tsv, .lvm, raw .f32, .f64, UFF .uff, .unv or "
+                     "MATLAB .mat)");
   }
   if (t.samples_ == 0) throw InputError(label + ": no samples");
+  // Record 7 prints dx with 6 significant digits (E13.5): 1e-5 covers its rounding.
+  if (sample_rate_hz > 0 && t.file_rate_hz_ > 0 &&
+      std::abs(t.file_rate_hz_ - sample_rate_hz) > 1e-5 * sample_rate_hz) {
+    char buf[320];
+    std::snprintf(buf, sizeof(buf),
+                  ": the records' abscissa step dx = %.6g s is %.6g Hz, test.yaml says "
+                  "sample_rate_hz: %.6g; set sample_rate_hz: %.6g (or fix the file)",
+                  1.0 / t.file_rate_hz_, t.file_rate_hz_, sample_rate_hz, t.file_rate_hz_);
+    throw InputError(label + buf);
+  }
   return t;
 }
 
@@ -338,11 +436,15 @@ namespace {
 // The rows after the header: one cell per column, each a finite number. Templated on the
 // decimal mark so that the plain-CSV loop stays what it was (memchr for the delimiter,
 // from_chars in place).
+// A row ending in the delimiter (LabVIEW) has an empty last cell, which is not a column;
+// quoted cells take the slower split_cells path. With `extra_ok` (a LabVIEW Comment column
+// left out of the header), cells after the last column are ignored.
 template <bool kDecimalComma, typename Fail>
 void parse_rows(std::string_view text, std::size_t pos, std::size_t line_no, char delim,
                 const std::vector<std::string>& names, std::vector<std::vector<double>>& columns,
-                const Fail& fail) {
+                bool extra_ok, const Fail& fail) {
   const std::size_t nch = names.size();
+  std::vector<std::string_view> quoted;
   while (pos < text.size()) {
     ++line_no;
     std::size_t eol = text.find('\n', pos);
@@ -351,12 +453,24 @@ void parse_rows(std::string_view text, std::size_t pos, std::size_t line_no, cha
     pos = eol + 1;
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     if (line.empty()) continue;
+    const bool has_quotes = line.find('"') != std::string_view::npos;
+    if (has_quotes) {
+      split_cells(line, delim, quoted);
+    } else {
+      std::size_t end = line.size();
+      while (end > 0 && line[end - 1] == ' ' && delim != ' ') --end;
+      if (end > 1 && line[end - 1] == delim) line = line.substr(0, end - 1);
+    }
     std::size_t cell = 0, cpos = 0;
     while (true) {
-      const std::size_t d = line.find(delim, cpos);
+      const std::size_t d = has_quotes ? (cell + 1 < quoted.size() ? 0 : std::string_view::npos)
+                                       : line.find(delim, cpos);
       std::string_view s =
-          line.substr(cpos, d == std::string_view::npos ? line.size() - cpos : d - cpos);
+          has_quotes
+              ? quoted[cell]
+              : line.substr(cpos, d == std::string_view::npos ? line.size() - cpos : d - cpos);
       if (cell >= nch) {
+        if (extra_ok) break;
         fail("line " + std::to_string(line_no) + " has more than " + std::to_string(nch) +
              " cells (header has " + std::to_string(nch) + ")");
       }
@@ -429,13 +543,21 @@ void SignalTable::read_text(const DataSpec& data) {
   delimiter_ = delim;
   used.delimiter = delim;
 
-  std::size_t hpos = 0;
-  while (true) {
-    const std::size_t d = header.find(delim, hpos);
-    names_.push_back(trim(header.substr(hpos, d == std::string_view::npos ? d : d - hpos)));
-    if (d == std::string_view::npos) break;
-    hpos = d + 1;
+  std::vector<std::string_view> cells;
+  split_cells(header, delim, cells);
+  for (auto c : cells) {
+    // Quotes are gone (split_cells); blanks around a name are not part of it.
+    while (!c.empty() && (c.front() == ' ' || c.front() == '\t')) c.remove_prefix(1);
+    while (!c.empty() && (c.back() == ' ' || c.back() == '\t')) c.remove_suffix(1);
+    std::string name(c);
+    for (std::size_t q = name.find("\"\""); q != std::string::npos; q = name.find("\"\"", q + 1)) {
+      name.erase(q, 1);  // "" inside a quoted header cell
+    }
+    names_.push_back(std::move(name));
   }
+  // LabVIEW's measurement files end the header with a Comment column that rows leave empty.
+  const bool comment_column = names_.size() > 1 && comment_cell(names_.back());
+  if (comment_column) names_.pop_back();
   if (names_.size() == 1 && names_[0].empty()) {
     if (data.skip_lines > 0) {
       fail("line " + std::to_string(data.skip_lines + 1) +
@@ -455,10 +577,117 @@ void SignalTable::read_text(const DataSpec& data) {
   for (auto& c : columns_) c.reserve(text.size() / (nch * 12) + 1);
   const std::size_t header_line = static_cast<std::size_t>(data.skip_lines) + 1;
   if (data.decimal == ',') {
-    parse_rows<true>(text, body, header_line, delim, names_, columns_, fail);
+    parse_rows<true>(text, body, header_line, delim, names_, columns_, comment_column, fail);
   } else {
-    parse_rows<false>(text, body, header_line, delim, names_, columns_, fail);
+    parse_rows<false>(text, body, header_line, delim, names_, columns_, comment_column, fail);
   }
+  samples_ = columns_[0].size();
+}
+
+void SignalTable::read_uff(const DataSpec& data) {
+  std::vector<uff::Function58> functions;
+  try {
+    functions = uff::read_uff58(data.file);
+  } catch (const InputError& e) {
+    rethrow_labelled(e, data.file, label_);
+  }
+  std::vector<std::string> others;
+  const uff::Function58* first = nullptr;
+  for (std::size_t k = 0; k < functions.size(); ++k) {
+    const auto& f = functions[k];
+    const bool time = f.function_type == 0 || f.function_type == uff::kTimeResponse;
+    if (!time || f.complex_ordinate || f.x.size() != 0) {
+      others.push_back("#" + std::to_string(k + 1) + " '" + f.id1 + "' (function type " +
+                       std::to_string(f.function_type) + (f.complex_ordinate ? ", complex" : "") +
+                       (f.x.size() != 0 ? ", uneven abscissa" : "") + ")");
+      continue;
+    }
+    const std::string where = "dataset 58 #" + std::to_string(k + 1) + " '" + f.id1 + "'";
+    if (!first) {
+      first = &f;
+    } else if (f.dx != first->dx || f.samples() != first->samples()) {
+      throw InputError(label_ + ": " + where + " has " + std::to_string(f.samples()) +
+                       " samples at dx " + sig6(f.dx) + " s, the first time record '" + first->id1 +
+                       "' " + std::to_string(first->samples()) + " at dx " + sig6(first->dx) +
+                       " s: every channel must share both");
+    }
+    std::string name = f.id1;
+    if (name.empty() || index_of(name) >= 0) name = "record " + std::to_string(names_.size());
+    names_.push_back(name);
+    columns_.emplace_back(f.real.data(), f.real.data() + f.real.size());
+    check_finite(columns_.back(), name, label_);
+  }
+  if (!first) {
+    throw InputError(label_ +
+                     ": no dataset 58 time record (function type 1, real, even "
+                     "abscissa) in the file" +
+                     (others.empty() ? std::string() : "; it holds " + joined(others)));
+  }
+  samples_ = columns_[0].size();
+  file_rate_hz_ = first->sample_rate_hz();
+}
+
+void SignalTable::read_mat(const DataSpec& data) {
+  struct Candidate {
+    std::string name, variable;
+    std::optional<std::size_t> column;
+    std::size_t length;
+  };
+  std::vector<Candidate> candidates;
+  std::vector<std::string> left_out;
+  try {
+    for (const auto& v : mat::numeric_variables(data.file)) {
+      const std::string base = lower(v.name);
+      if (base == "t" || base == "time") {
+        left_out.push_back(v.name + " (time)");
+      } else if (v.complex) {
+        left_out.push_back(v.name + " (complex)");
+      } else if (v.rows * v.cols <= 1) {
+        left_out.push_back(v.name + (v.rows * v.cols == 1 ? " (scalar)" : " (empty)"));
+      } else if (v.vector()) {
+        candidates.push_back({v.name, v.name, std::nullopt, v.rows * v.cols});
+      } else {
+        for (std::size_t k = 0; k < v.cols; ++k) {
+          candidates.push_back({v.name + "(:," + std::to_string(k + 1) + ")", v.name, k, v.rows});
+        }
+      }
+    }
+    if (candidates.empty()) {
+      throw InputError(data.file.string() + ": no real numeric vector or matrix variable" +
+                       (left_out.empty() ? std::string(" (no numeric variable at all)")
+                                         : " (left out: " + joined(left_out) + ")"));
+    }
+    // The record length: the one most channels share, the longest on a tie.
+    std::map<std::size_t, std::size_t> count;
+    for (const auto& c : candidates) ++count[c.length];
+    std::size_t length = 0, most = 0;
+    for (const auto& [n, k] : count) {
+      if (k >= most) {
+        length = n;
+        most = k;
+      }
+    }
+    std::map<std::string, Eigen::MatrixXd> loaded;
+    for (const auto& c : candidates) {
+      if (c.length != length) {
+        left_out.push_back(c.name + " (" + std::to_string(c.length) + " values, the record has " +
+                           std::to_string(length) + ")");
+        continue;
+      }
+      auto it = loaded.find(c.variable);
+      if (it == loaded.end()) {
+        it = loaded.emplace(c.variable, mat::read_matrix(data.file, c.variable)).first;
+      }
+      const Eigen::MatrixXd& m = it->second;
+      const double* p = c.column ? m.col(static_cast<Eigen::Index>(*c.column)).data() : m.data();
+      names_.push_back(c.name);
+      columns_.emplace_back(p, p + length);
+      check_finite(columns_.back(), c.name, label_);
+    }
+  } catch (const InputError& e) {
+    rethrow_labelled(e, data.file, label_);
+  }
+  if (!left_out.empty()) left_out_ = "; not channels: " + joined(left_out);
   samples_ = columns_[0].size();
 }
 
@@ -476,7 +705,7 @@ std::size_t SignalTable::column_of(const std::string& name, const ChannelSpec& c
     const int idx = index_of(name);
     if (idx < 0) {
       throw InputError(label_ + ": no channel named '" + name + "' (channels: " + joined(names_) +
-                       ")");
+                       ")" + left_out_);
     }
     return static_cast<std::size_t>(idx);
   }
@@ -498,8 +727,10 @@ std::size_t SignalTable::column_of(const std::string& name, const ChannelSpec& c
       break;
     }
   }
-  throw InputError(label_ + ": " + key + " '" + c.header +
-                   "' is not a column of the header (columns: " + joined(names_, "'") + ")" + hint);
+  const bool text = delimiter_ != 0;
+  throw InputError(label_ + ": " + key + " '" + c.header + "' is not a " +
+                   (text ? "column of the header (columns: " : "channel of the file (channels: ") +
+                   joined(names_, "'") + ")" + hint + left_out_);
 }
 
 Eigen::VectorXd SignalTable::channel(const std::string& name, const ChannelSpec& cal) const {
@@ -564,8 +795,9 @@ std::vector<std::string> missing_channels(const SignalTable& table,
              "\" (units in headers are not read: add a scale when the unit is not the one the "
              "test needs)";
     } else if (!free.empty()) {
-      msg += "; set " + key + " to the header text of its column (" + joined(free, "'") +
-             ") or its 0-based index";
+      msg += "; set " + key + " to the " +
+             (table.delimiter() != 0 ? "header text of its column" : "name of its channel") + " (" +
+             joined(free, "'") + ") or its 0-based index";
     }
     out.push_back(msg);
   }

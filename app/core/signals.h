@@ -1,7 +1,19 @@
 // Signal files of EXPERIMENT_FORMAT.md section 1: delimited text (CSV) with a header of channel
-// names, in the dialect `data:` states (delimiter, decimal comma, lines before the header), or
-// raw little-endian .f32/.f64 with channels interleaved. Raw files are memory-mapped and
+// names, in the dialect `data:` states (delimiter, decimal comma, lines before the header), raw
+// little-endian .f32/.f64 with channels interleaved, Universal File Format dataset 58/58b time
+// records (.uff, .unv) or MATLAB .mat variables (v5, v7.3). Raw files are memory-mapped and
 // calibrated lazily, one channel at a time, so 10^8-value files never live as text.
+//
+// Channel names, which `channels.<name>.column` picks by text or 0-based index:
+// - text: the header cells (quotes removed; a LabVIEW "Comment" last column is left out);
+// - .uff/.unv: one channel per dataset 58 time record (function type 0 or 1, real, even
+//   abscissa), named by its record 1 (id1) text, in file order; a record whose id1 is empty or
+//   repeats an earlier one is named "record <k>" (k its 0-based channel index);
+// - .mat: one channel per real numeric vector variable (named as the variable) and per column
+//   of a real numeric matrix ("M(:,1)", "M(:,2)", ... MATLAB's 1-based notation), in file
+//   order; variables named t or time, scalars, complex and N-D arrays are left out, and so are
+//   vectors whose length is not the record's (the length most channels share, the longest on
+//   a tie).
 #pragma once
 
 #include <Eigen/Core>
@@ -20,6 +32,9 @@ class MappedFile;
 // File extensions read as delimited text (CSV dialects); .f32/.f64 are raw.
 bool is_text_signal_file(const std::filesystem::path& file);
 
+// Every extension SignalTable::open reads: text, raw, .uff/.unv and .mat (case-insensitive).
+bool is_signal_file(const std::filesystem::path& file);
+
 class SignalTable {
  public:
   // Opens `data.file`. Throws InputError naming the file for: missing file, a raw file whose
@@ -27,6 +42,8 @@ class SignalTable {
   // non-numeric cell, NaN or infinite samples, an empty record. `label` prefixes messages.
   // When a text file does not parse in the dialect of `data` but does in another, the message
   // ends with the keys to set ("the file looks like ...: set data.delimiter ...").
+  // data.sample_rate_hz (test.yaml's; 0: not checked) must agree with the rate a file states
+  // (a UFF record's abscissa step) to 1e-5 relative, the 6 digits record 7 prints dx with.
   static SignalTable open(const DataSpec& data, const std::string& label);
 
   SignalTable(SignalTable&&) noexcept;
@@ -50,10 +67,15 @@ class SignalTable {
   // absent); 0 for raw files.
   char delimiter() const { return delimiter_; }
 
+  // The sample rate the file states (1 / dx of UFF time records), 0 when it states none.
+  double file_sample_rate_hz() const { return file_rate_hz_; }
+
  private:
   SignalTable() = default;
   int index_of(const std::string& name) const;
   void read_text(const DataSpec& data);
+  void read_uff(const DataSpec& data);
+  void read_mat(const DataSpec& data);
 
   std::string label_;
   std::vector<std::string> names_;
@@ -61,8 +83,10 @@ class SignalTable {
   // Exactly one of these holds the samples.
   std::unique_ptr<MappedFile> mapped_;  // raw interleaved
   int value_bytes_ = 0;
-  std::vector<std::vector<double>> columns_;  // parsed CSV
+  std::vector<std::vector<double>> columns_;  // parsed CSV, UFF records, .mat variables
   char delimiter_ = 0;
+  double file_rate_hz_ = 0.0;
+  std::string left_out_;  // "; left out: ..." for .mat variables that are not channels
 };
 
 // The problems of a test's `required` channels in `table`, one message each, empty when every

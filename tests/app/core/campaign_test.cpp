@@ -238,7 +238,8 @@ TEST(CampaignDialect, TextExtensionsAcceptedOthersRefused) {
   const CampaignSpec c = tap_with(d, "data: {file: hits.xlsx}\n", "hits.xlsx");
   EXPECT_TRUE(any_contains(c.tests[0].errors,
                            "t/test.yaml: key 'data.file' 'hits.xlsx': unsupported signal format "
-                           "(use text .csv, .txt, .tsv, .lvm or raw .f32, .f64)"));
+                           "(use text .csv, .txt, .tsv, .lvm, raw .f32, .f64, UFF .uff, .unv or "
+                           "MATLAB .mat)"));
 }
 
 TEST(CampaignDialect, DialectKeysOnARawFileAreIgnoredWithAWarning) {
