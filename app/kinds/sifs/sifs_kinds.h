@@ -204,6 +204,8 @@ class SifsTapKind : public TestKind {
            TestOutcome& out) const override;
   void publish(const TestOutcome& out, CampaignValues& values) const override;
   nlohmann::json results(const TestOutcome& out) const override;
+  // <test>/frf.csv and frf.uff: H1, coherence and the fitted sensor model (sifs_tap_kind.cpp).
+  void write_files(const TestOutcome& out, const std::filesystem::path& report_dir) const override;
   nlohmann::json settings(const CampaignSpec&) const override;
   std::string note(const TestOutcome& out) const override;
   void figures(const CampaignResults&, const TestOutcome& out, FigureJobs& jobs) const override;

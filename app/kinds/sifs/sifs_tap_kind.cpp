@@ -1,8 +1,11 @@
 // Kind `sifs-tap` (format section 6, 003 sec. 4.2.1): see sifs_kinds.h and docs/sifs.md.
 #include <cmath>
 #include <complex>
+#include <filesystem>
 
 #include "app/core/format.h"
+#include "app/formats/frf_text.h"
+#include "app/formats/uff58.h"
 #include "app/kinds/sifs/sifs_common.h"
 #include "app/kinds/sifs/sifs_kinds.h"
 #include "app/report/figure_jobs.h"
@@ -294,6 +297,67 @@ render::Figure sifs_tap_figure(const SifsTapResult& t) {
   c.y_range = render::Range{0, 1.05};
   c.series = {{x, coh, "", render::SeriesStyle::kLine, "#009E73"}};
   return fig;
+}
+
+// <test>/frf.csv (f_hz, re, im: H1 in sensor N per hammer N, coherence, fit_re, fit_im: the
+// fitted sensor model, 003 eq. 4-27) and <test>/frf.uff (the same as UFF58: FRF records H1 and
+// fit, function type 4, and the coherence, type 6), as the tap kind writes its own.
+void SifsTapKind::write_files(const TestOutcome& out,
+                              const std::filesystem::path& report_dir) const {
+  const SifsTapResult& t = out.result_of<SifsTapResult>();
+  const auto& f = t.frf;
+  const Eigen::Index n = f.f_hz.size();
+  if (n < 2) return;
+  const std::string& id = out.spec->id;
+  Eigen::VectorXcd fit(n);
+  for (Eigen::Index i = 0; i < n; ++i) fit[i] = sifs::sensor_response(t.model.modes, f.f_hz[i]);
+  const std::filesystem::path dir = report_dir / (id.empty() ? "." : id);
+  std::filesystem::create_directories(dir);
+  frf_text::write_csv(dir / "frf.csv",
+                      {"chatterlab " + std::string(CHATTERLAB_VERSION) + ", sifs-tap test " +
+                           (id.empty() ? std::string(".") : id),
+                       "sensor force per hammer force (N/N); re, im: H1 over the hits; fit_re, "
+                       "fit_im: the fitted sensor model (003 eq. 4-27)"},
+                      {{"f_hz", f.f_hz},
+                       {"re", f.h1.real()},
+                       {"im", f.h1.imag()},
+                       {"coherence", f.coherence},
+                       {"fit_re", fit.real()},
+                       {"fit_im", fit.imag()}});
+  const int direction = t.data && t.data->axis == sifs::Axis::kY ? 2 : 1;
+  auto function = [&](const std::string& name, int type) {
+    uff::Function58 u;
+    u.id1 = name + " " + (id.empty() ? std::string(".") : id);
+    u.id2 = "chatterlab " + std::string(CHATTERLAB_VERSION);
+    u.id4 = "sifs-tap: spindle sensor per hammer force";
+    u.function_type = type;
+    u.response_entity = "sensor";
+    u.reference_entity = "tool";
+    u.response_node = u.reference_node = 1;
+    u.response_direction = u.reference_direction = direction;
+    u.x_start = f.f_hz[0];
+    u.dx = f.df_hz;
+    u.x_label = "Frequency";
+    u.x_unit = "Hz";
+    return u;
+  };
+  std::vector<uff::Function58> fs;
+  for (const auto& [name, h] : {std::make_pair(std::string("H1"), Eigen::VectorXcd(f.h1)),
+                                std::make_pair(std::string("fit"), fit)}) {
+    uff::Function58 u = function(name, uff::kFrf);
+    u.complex_ordinate = true;
+    u.values = h;
+    u.y_label = u.z_label = "Force";
+    u.y_unit = u.z_unit = "N";
+    fs.push_back(std::move(u));
+  }
+  if (f.coherence.size() == n) {
+    uff::Function58 c = function("coherence", uff::kCoherence);
+    c.real = f.coherence;
+    c.y_label = "Coherence";
+    fs.push_back(std::move(c));
+  }
+  uff::write_uff58(dir / "frf.uff", fs);
 }
 
 void SifsTapKind::figures(const CampaignResults&, const TestOutcome& out, FigureJobs& jobs) const {
