@@ -112,11 +112,22 @@ void read_channels(const YAML::Node& root, YamlReader& r, TestSpec& t) {
       r.error(path, "must be a mapping such as {scale: 1.0, offset: 0.0}");
       continue;
     }
-    r.check_keys(kv.second, {"scale", "offset", "threshold", "column"}, path);
+    r.check_keys(kv.second, {"scale", "offset", "threshold", "column", "record", "variable"}, path);
     c.scale = r.optional_double(kv.second, "scale", path).value_or(1.0);
     c.offset = r.optional_double(kv.second, "offset", path).value_or(0.0);
     c.threshold = r.optional_double(kv.second, "threshold", path);
     c.column = read_column(kv.second["column"], r, path + ".column");
+    if (const auto rec = r.optional_double(kv.second, "record", path)) {
+      if (!(*rec >= 1) || *rec != std::floor(*rec) || *rec > 1e6) {
+        r.error(path + ".record", "must be a whole number >= 1 (1-based dataset 58 record)");
+      } else {
+        c.record = static_cast<int>(*rec);
+      }
+    }
+    c.variable = r.optional_string(kv.second, "variable", path);
+    if (c.record && (c.column || c.variable)) {
+      r.error(path + ".record", "names the record alone: drop column and variable");
+    }
     t.channels[name] = c;
   }
 }

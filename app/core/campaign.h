@@ -34,6 +34,10 @@ struct ChannelSpec {
   double offset = 0.0;
   std::optional<double> threshold;  // pulse channels (tach, zero): rising-edge threshold
   std::optional<ColumnRef> column;  // absent: the column whose header is the channel's name
+  // EXPERIMENT_FORMAT.md section 1: .uff/.unv `record` (1-based dataset 58 order in the file);
+  // .mat `variable` (a vector, or with `column` the 0-based column of a matrix).
+  std::optional<int> record;
+  std::optional<std::string> variable;
 };
 
 struct DataSpec {

@@ -614,6 +614,7 @@ void SignalTable::read_uff(const DataSpec& data) {
     std::string name = f.id1;
     if (name.empty() || index_of(name) >= 0) name = "record " + std::to_string(names_.size());
     names_.push_back(name);
+    uff_records_.push_back(static_cast<int>(k + 1));
     columns_.emplace_back(f.real.data(), f.real.data() + f.real.size());
     check_finite(columns_.back(), name, label_);
   }
@@ -688,6 +689,7 @@ void SignalTable::read_mat(const DataSpec& data) {
     rethrow_labelled(e, data.file, label_);
   }
   if (!left_out.empty()) left_out_ = "; not channels: " + joined(left_out);
+  mat_ = true;
   samples_ = columns_[0].size();
 }
 
@@ -701,6 +703,47 @@ int SignalTable::index_of(const std::string& name) const {
 }
 
 std::size_t SignalTable::column_of(const std::string& name, const ChannelSpec& cal) const {
+  if (cal.record) {
+    const std::string key = "channels." + name + ".record";
+    if (uff_records_.empty()) {
+      throw InputError(label_ + ": " + key + " applies to .uff/.unv files; set channels." + name +
+                       ".column to the header text of its column or its 0-based index");
+    }
+    std::string records;
+    for (std::size_t i = 0; i < names_.size(); ++i) {
+      if (uff_records_[i] == *cal.record) return i;
+      records += (i ? ", " : "") + std::to_string(uff_records_[i]) + " '" + names_[i] + "'";
+    }
+    throw InputError(label_ + ": " + key + " is " + std::to_string(*cal.record) +
+                     ": not a time record of the file (time records: " + records + ")");
+  }
+  if (cal.variable) {
+    const std::string key = "channels." + name + ".variable";
+    if (!mat_) {
+      throw InputError(label_ + ": " + key + " applies to .mat files; set channels." + name +
+                       ".column to " +
+                       (delimiter_ != 0 ? "the header text of its column" : "its channel name") +
+                       " or its 0-based index");
+    }
+    std::string target = *cal.variable;
+    if (cal.column) {
+      if (!cal.column->by_index()) {
+        throw InputError(label_ + ": channels." + name + ".column '" + cal.column->header +
+                         "': with " + key + " it must be the 0-based column of the matrix");
+      }
+      target += "(:," + std::to_string(cal.column->index + 1) + ")";
+    }
+    const int idx = index_of(target);
+    if (idx >= 0) return static_cast<std::size_t>(idx);
+    if (!cal.column && index_of(target + "(:,1)") >= 0) {
+      throw InputError(label_ + ": " + key + " '" + target + "' is a matrix: set channels." + name +
+                       ".column to its 0-based column");
+    }
+    throw InputError(label_ + ": " + key + " '" + *cal.variable + "'" +
+                     (cal.column ? " column " + std::to_string(cal.column->index) : std::string()) +
+                     " is not a channel of the file (channels: " + joined(names_, "'") + ")" +
+                     left_out_);
+  }
   if (!cal.column) {
     const int idx = index_of(name);
     if (idx < 0) {
@@ -764,7 +807,7 @@ std::vector<std::string> missing_channels(const SignalTable& table,
   for (const auto& name : required) {
     const auto it = channels.find(name);
     const ChannelSpec cal = it == channels.end() ? ChannelSpec{} : it->second;
-    if (!cal.column && !table.has(name)) {
+    if (!cal.column && !cal.record && !cal.variable && !table.has(name)) {
       unresolved.push_back(name);
       continue;
     }

@@ -55,9 +55,11 @@ class SignalTable {
   const std::vector<std::string>& names() const { return names_; }
   bool has(const std::string& name) const;
 
-  // The column feeding channel `name`: `cal.column` when set, else the column whose header is
-  // `name`. Throws InputError naming the file and the key (channels.<name>.column) for a header
-  // text that is not in the header or an index out of range, or when no column is named `name`.
+  // The column feeding channel `name`: `cal.record` (.uff/.unv), `cal.variable` (.mat, with
+  // `cal.column` for a matrix column) or `cal.column` when set, else the column whose header is
+  // `name`. Throws InputError naming the file and the key (channels.<name>.column, .record,
+  // .variable) for a header text that is not in the header, an index out of range, a record or
+  // variable the file does not hold as a channel, or when no column is named `name`.
   std::size_t column_of(const std::string& name, const ChannelSpec& cal = {}) const;
 
   // physical = scale * raw + offset of the column feeding `name` (column_of).
@@ -86,6 +88,8 @@ class SignalTable {
   std::vector<std::vector<double>> columns_;  // parsed CSV, UFF records, .mat variables
   char delimiter_ = 0;
   double file_rate_hz_ = 0.0;
+  std::vector<int> uff_records_;  // .uff: each channel's 1-based dataset 58 record in the file
+  bool mat_ = false;
   std::string left_out_;  // "; left out: ..." for .mat variables that are not channels
 };
 

@@ -266,6 +266,85 @@ TEST(SignalsFormats, BadMappingsNameTheFileAndTheKey) {
             "(Hammer, Accel)");
 }
 
+// EXPERIMENT_FORMAT.md section 1's keys: channels.<name>.record (UFF, 1-based dataset 58 order
+// in the file) and channels.<name>.variable (.mat, with column for a matrix).
+TEST(SignalsFormats, ContractRecordAndVariableKeys) {
+  TempDir d;
+  Eigen::VectorXd a(4), b(4);
+  a << 1, 2, 3, 4;
+  b << 5, 6, 7, 8;
+  uff::Function58 frf;
+  frf.id1 = "H";
+  frf.function_type = uff::kFrf;
+  frf.complex_ordinate = true;
+  frf.values = Eigen::VectorXcd::Ones(3);
+  frf.dx = 1.0;
+  const auto u = d.path() / "s.uff";
+  uff::write_uff58(u, {frf, time_record("Hammer", a, "N"), time_record("Accel", b, "m/s^2")});
+  const SignalTable t = SignalTable::open(spec(u), "t/s.uff");
+  ChannelSpec rec;
+  rec.record = 3;
+  EXPECT_EQ(t.channel("response", rec)[0], 5.0);
+  rec.record = 1;
+  try {
+    t.channel("force", rec);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "t/s.uff: channels.force.record is 1: not a time record of the file (time records: "
+              "2 'Hammer', 3 'Accel')");
+  }
+
+  Eigen::MatrixXd m(4, 2), v(4, 1);
+  m << a, b;
+  v = a;
+  const auto f = d.path() / "a.mat";
+  mat::write_mat(f, {{"data", m}, {"F", v}}, mat::Version::kV5);
+  const SignalTable mt = SignalTable::open(spec(f), "t/a.mat");
+  ChannelSpec var;
+  var.variable = "F";
+  EXPECT_EQ(mt.channel("force", var)[3], 4.0);
+  var.variable = "data";
+  var.column = ColumnRef{"", 1};
+  EXPECT_EQ(mt.channel("response", var)[0], 5.0);
+  const auto message = [&](const SignalTable& table, const ChannelSpec& c) {
+    try {
+      table.column_of("force", c);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  var.column.reset();
+  EXPECT_EQ(message(mt, var),
+            "t/a.mat: channels.force.variable 'data' is a matrix: set channels.force.column to its "
+            "0-based column");
+  var.variable = "A";
+  EXPECT_EQ(message(mt, var),
+            "t/a.mat: channels.force.variable 'A' is not a channel of the file (channels: "
+            "'data(:,1)', 'data(:,2)', 'F')");
+  EXPECT_EQ(message(t, var),
+            "t/s.uff: channels.force.variable applies to .mat files; set channels.force.column to "
+            "its channel name or its 0-based index");
+  rec.record = 2;
+  EXPECT_EQ(message(mt, rec),
+            "t/a.mat: channels.force.record applies to .uff/.unv files; set "
+            "channels.force.column to the header text of its column or its 0-based index");
+
+  // Through test.yaml: the keys load, and a record given with a column is refused.
+  d.write("campaign.yaml", chatterlab::testing::kCampaignYaml);
+  d.write("c/test.yaml", std::string(kTapKeys) +
+                             "data: {file: s.uff}\nchannels:\n  force: {record: 2}\n"
+                             "  response: {record: 3, column: 0}\n");
+  std::filesystem::copy_file(u, d.path() / "c/s.uff");
+  const CampaignSpec c = load_campaign(d.path());
+  ASSERT_EQ(c.tests.size(), 1u);
+  EXPECT_EQ(c.tests[0].channel("force").record, 2);
+  ASSERT_EQ(c.tests[0].errors.size(), 1u);
+  EXPECT_NE(c.tests[0].errors[0].find("channels.response.record"), std::string::npos)
+      << c.tests[0].errors[0];
+}
+
 TEST(SignalsFormats, LabviewRowsEndingInATabRead) {
   TempDir d;
   // LabVIEW measurement files: every row ends in a tab (its empty Comment cell).

@@ -44,7 +44,7 @@ TEST(Signals, CsvWithCalibrationAndIgnoredTimeColumn) {
   const auto f = d.write("a.csv", "t,force,response\n0,1.5,-2\n0.001,2.5,3e-3\n");
   const SignalTable t = SignalTable::open(spec(f), "a.csv");
   ASSERT_EQ(t.samples(), 2u);
-  const Eigen::VectorXd force = t.channel("force", ChannelSpec{2.0, 1.0, {}, {}});
+  const Eigen::VectorXd force = t.channel("force", ChannelSpec{2.0, 1.0, {}, {}, {}, {}});
   EXPECT_DOUBLE_EQ(force[0], 4.0);  // 2 * 1.5 + 1
   EXPECT_DOUBLE_EQ(force[1], 6.0);
   EXPECT_DOUBLE_EQ(t.channel("response")[1], 3e-3);
@@ -56,7 +56,7 @@ TEST(Signals, RawF32InterleavedAndF64) {
   const SignalTable t = SignalTable::open(spec(f32, {"x", "y", "tach"}), "s.f32");
   ASSERT_EQ(t.samples(), 2u);
   EXPECT_DOUBLE_EQ(t.channel("y")[1], 20.0);
-  EXPECT_DOUBLE_EQ(t.channel("tach", ChannelSpec{0.5, 0.0, {}, {}})[0], 50.0);
+  EXPECT_DOUBLE_EQ(t.channel("tach", ChannelSpec{0.5, 0.0, {}, {}, {}, {}})[0], 50.0);
   const auto f64 = d.write("s.f64", raw_bytes<double>({0.25, -0.5}));
   EXPECT_DOUBLE_EQ(SignalTable::open(spec(f64, {"x"}), "s.f64").channel("x")[1], -0.5);
 }
