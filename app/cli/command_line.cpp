@@ -22,26 +22,35 @@ struct CommandSpec {
 const std::vector<CommandSpec>& commands() {
   static const std::vector<CommandSpec> c = {
       {"report",
-       "chatterlab report <campaign> --out <dir> [--no-pdf] [--jobs N]",
+       "chatterlab report <campaign> --out <dir> [--no-pdf] [--jobs N] [--quiet]",
        "analyse every test of the campaign; write index.html, report.pdf, results.json",
-       {{"--out", true, "the report folder (created)"},
+       {{"--out", true,
+         "the report folder: new, empty, or one chatterlab wrote (its previous files are "
+         "removed)"},
         {"--no-pdf", false, "write no report.pdf"},
-        {"--jobs", true, "worker threads (0: one per hardware thread)"}}},
+        {"--jobs", true, "worker threads (0: one per hardware thread)"},
+        {"--quiet", false, "no progress or summary on stdout; errors still on stderr"}}},
       {"validate",
        "chatterlab validate <campaign>",
-       "list the tests found and every problem; exit 1 when any test is unusable",
+       "list the tests found and every problem; exit 1 when any test is unusable (a kind of "
+       "the format this version does not analyse is listed, not a problem)",
        {}},
       {"simulate",
-       "chatterlab simulate <spec.yaml> --out <dir> [--no-pdf] [--results-only] [--jobs N]",
+       "chatterlab simulate <spec.yaml> --out <dir> [--no-pdf] [--results-only] [--jobs N] "
+       "[--quiet]",
        "one milling simulation: bifurcation depth, Poincare maps, figures, results.json",
-       {{"--out", true, "the output folder (created)"},
+       {{"--out", true,
+         "the output folder: new, empty, or one chatterlab wrote (its previous files are "
+         "removed)"},
         {"--no-pdf", false, "write no PDF"},
         {"--results-only", false, "results.json only: no figures, HTML or PDF"},
-        {"--jobs", true, "figure threads (0: one per hardware thread)"}}},
+        {"--jobs", true, "figure threads (0: one per hardware thread)"},
+        {"--quiet", false, "no summary on stdout; errors still on stderr"}}},
       {"synth",
-       "chatterlab synth <spec.yaml> --out <campaign>",
+       "chatterlab synth <spec.yaml> --out <campaign> [--quiet]",
        "write a synthetic campaign with truth.yaml (spec format: docs/format/synth-spec.md)",
-       {{"--out", true, "the campaign folder (created)"}}},
+       {{"--out", true, "the campaign folder (created)"},
+        {"--quiet", false, "no summary on stdout; warnings and errors still on stderr"}}},
   };
   return c;
 }
@@ -55,6 +64,16 @@ const CommandSpec* find_command(const std::string& name) {
 
 bool is_help(const std::string& a) { return a == "--help" || a == "-h" || a == "help"; }
 
+// The exit statuses of app/cli/exit_codes.h, for every usage text.
+const char* const kExitStatusText =
+    "exit status:\n"
+    "  0  done\n"
+    "  1  bad input: the campaign or spec cannot be read, --out refused, validate found a\n"
+    "     problem, the PDF not written, a simulation that did not complete\n"
+    "  2  the command line does not parse\n"
+    "  3  internal error (report: a test or group stopped on one; the report names it)\n"
+    "  4  report: the report was written but no test was analysed (all skipped, or none)\n";
+
 }  // namespace
 
 std::string command_usage(const std::string& command) {
@@ -64,7 +83,7 @@ std::string command_usage(const std::string& command) {
       u += std::string("  ") + c.synopsis + "\n      " + c.what + "\n";
     }
     u += "  chatterlab --version | --help | <command> --help\n";
-    return u;
+    return u + kExitStatusText;
   }
   const CommandSpec* c = find_command(command);
   if (c == nullptr) return "";
@@ -74,7 +93,7 @@ std::string command_usage(const std::string& command) {
     u +=
         std::string("  ") + o.name + (o.takes_value ? " <value>" : "") + "\n      " + o.help + "\n";
   }
-  return u;
+  return u + kExitStatusText;
 }
 
 ParsedCommandLine parse_command_line(const std::vector<std::string>& args) {
@@ -132,6 +151,8 @@ ParsedCommandLine parse_command_line(const std::vector<std::string>& args) {
       l.out = value;
     } else if (a == "--no-pdf") {
       l.pdf = false;
+    } else if (a == "--quiet") {
+      l.quiet = true;
     } else if (a == "--results-only") {
       l.results_only = true;
     } else if (a == "--jobs") {

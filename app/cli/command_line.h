@@ -15,6 +15,7 @@ struct CommandLine {
   bool pdf = true;            // --no-pdf
   bool results_only = false;  // --results-only
   int jobs = 0;               // --jobs N (0: one thread per hardware thread)
+  bool quiet = false;         // --quiet: nothing on stdout; errors still on stderr
   bool help = false;          // --help / -h: the usage of `command` (or of every command)
   bool version = false;       // --version
 };
@@ -28,7 +29,7 @@ struct ParsedCommandLine {
 ParsedCommandLine parse_command_line(const std::vector<std::string>& args);
 
 // The usage of one command ("" for an unknown one), or of every command when `command` is
-// empty.
+// empty; both end with the exit statuses (app/cli/exit_codes.h).
 std::string command_usage(const std::string& command);
 
 }  // namespace chatterlab::app

@@ -2,11 +2,14 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "analysis/common/summary.h"
 #include "app/cli/command_line.h"
+#include "app/cli/exit_codes.h"
+#include "app/cli/output_folder.h"
 #include "app/cli/validate.h"
 #include "app/core/campaign.h"
 #include "app/report/report.h"
@@ -17,8 +20,20 @@ namespace {
 
 int usage_error(const std::string& what, const std::string& command) {
   std::cerr << "chatterlab: " << what << "\n" << chatterlab::app::command_usage(command);
-  return 2;
+  return chatterlab::app::kExitUsage;
 }
+
+// Writes the output folder's manifest when the command ends, also through an exception: a
+// folder left half-written is still recognised (and cleared) as chatterlab's by the next run.
+struct ManifestOnExit {
+  const chatterlab::app::OutputFolder& folder;
+  ~ManifestOnExit() {
+    try {
+      folder.write_manifest();
+    } catch (...) {
+    }
+  }
+};
 
 }  // namespace
 
@@ -46,6 +61,9 @@ int main(int argc, char** argv) {
   report_options.pdf = line.pdf;
   report_options.jobs = line.jobs;
   const bool results_only = line.results_only;
+  // --quiet: stdout gets nothing (a stream without a buffer drops what it is given).
+  std::ostream quiet_stream(nullptr);
+  std::ostream& log = line.quiet ? quiet_stream : std::cout;
   try {
     if (cmd == "validate") {
       if (positional.size() != 1) return usage_error("validate takes one campaign folder", cmd);
@@ -56,7 +74,14 @@ int main(int argc, char** argv) {
       if (positional.size() != 1 || out.empty()) {
         return usage_error("report takes one campaign folder and --out <dir>", cmd);
       }
-      return chatterlab::app::run_report(positional[0], out, report_options, std::cout);
+      // Refused before any work when --out is not ours; the previous run's files go once
+      // the campaign was read.
+      auto folder = chatterlab::app::OutputFolder::open(out);
+      report_options.progress = !line.quiet;
+      report_options.errors = &std::cerr;
+      report_options.before_writing = [&folder] { folder.clear_previous(); };
+      const ManifestOnExit manifest{folder};
+      return chatterlab::app::run_report(positional[0], out, report_options, log);
     }
     if (cmd == "simulate") {
       if (positional.size() != 1 || out.empty()) {
@@ -66,7 +91,16 @@ int main(int argc, char** argv) {
       so.pdf = report_options.pdf;
       so.report = !results_only;
       so.jobs = report_options.jobs;
-      return chatterlab::app::run_simulate(positional[0], out, so, std::cout);
+      auto folder = chatterlab::app::OutputFolder::open(out);
+      folder.clear_previous();
+      const ManifestOnExit manifest{folder};
+      // Quiet: the summary is dropped, and what run_simulate said goes to stderr when it
+      // failed (it names the PDF error or the divergence there).
+      std::ostringstream held;
+      const int rc = chatterlab::app::run_simulate(
+          positional[0], out, so, line.quiet ? static_cast<std::ostream&>(held) : std::cout);
+      if (line.quiet && rc != 0) std::cerr << held.str();
+      return rc;
     }
     if (cmd == "synth") {
       if (positional.size() != 1 || out.empty()) {
@@ -74,18 +108,18 @@ int main(int argc, char** argv) {
       }
       const auto s = chatterlab::app::synthesize_campaign(positional[0], out);
       for (const auto& w : s.warnings) std::cerr << "chatterlab synth: warning: " << w << "\n";
-      std::cout << "synth: wrote campaign '" << s.campaign_name << "' with " << s.tests_written
-                << " tests to " << out << "\n";
-      return 0;
+      log << "synth: wrote campaign '" << s.campaign_name << "' with " << s.tests_written
+          << " tests to " << out << "\n";
+      return chatterlab::app::kExitOk;
     }
   } catch (const chatterlab::InputError& e) {
     std::cerr << "chatterlab " << cmd << ": " << e.what() << "\n";
-    return 1;
+    return chatterlab::app::kExitInputError;
   } catch (const std::exception& e) {
     // Not bad input: a bug or a broken invariant (exit status 3, as `report` uses for a test
     // that stopped on one).
     std::cerr << "chatterlab " << cmd << ": internal error: " << e.what() << "\n";
-    return 3;
+    return chatterlab::app::kExitInternalError;
   }
   return usage_error("unknown command '" + cmd + "'", "");
 }

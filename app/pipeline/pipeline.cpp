@@ -4,6 +4,7 @@
 #include <chrono>
 #include <limits>
 #include <map>
+#include <mutex>
 #include <stdexcept>
 #include <thread>
 
@@ -218,6 +219,37 @@ CampaignResults run_campaign(CampaignSpec campaign, const PipelineOptions& optio
   r.levels.resize(static_cast<std::size_t>(depth));
   const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   const int threads = options.jobs > 0 ? options.jobs : hw;
+  // Progress: one call per finished test or group, serialized. The tests that do not run
+  // (unusable, or no graph) count as finished first.
+  std::vector<bool> runs(r.tests.size(), false);
+  for (const auto& n : nodes) {
+    if (n.test != kNone) runs[n.test] = true;
+  }
+  const std::size_t total =
+      nodes.size() + static_cast<std::size_t>(std::count(runs.begin(), runs.end(), false));
+  std::mutex progress_mutex;
+  std::size_t finished = 0;
+  const auto report_finished = [&](const std::string& name, bool group, const Outcome& out) {
+    if (!options.on_finished) return;
+    std::lock_guard<std::mutex> lock(progress_mutex);
+    NodeFinished f;
+    f.name = name;
+    f.group = group;
+    f.ok = out.status.ok();
+    f.failure = out.failure;
+    f.message = out.status.ok() ? std::string() : out.status.message;
+    f.runtime_s = out.runtime_s;
+    f.elapsed_s = seconds_since(t0);
+    f.done = ++finished;
+    f.total = total;
+    try {
+      options.on_finished(f);
+    } catch (...) {  // progress never stops the campaign
+    }
+  };
+  for (std::size_t i = 0; i < r.tests.size(); ++i) {
+    if (!runs[i]) report_finished(node_name(r.campaign.tests[i]), false, r.tests[i]);
+  }
   for (int level = 0; level < depth; ++level) {
     std::vector<const Node*> now;
     for (const auto& n : nodes) {
@@ -236,11 +268,13 @@ CampaignResults run_campaign(CampaignSpec campaign, const PipelineOptions& optio
         run_node(
             n, out, r, [&] { n.group->run(r.values, ctx, out); },
             [&] { n.group->publish(out, r.values); });
+        report_finished(n.name, n.group != nullptr, out);
       } else {
         TestOutcome& out = r.tests[n.test];
         run_node(
             n, out, r, [&] { n.kind->run(r.campaign.tests[n.test], r.values, ctx, out); },
             [&] { n.kind->publish(out, r.values); });
+        report_finished(n.name, n.group != nullptr, out);
       }
     });
   }

@@ -6,7 +6,9 @@
 // rest of the campaign. A report never shows a number from a step that failed.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -17,8 +19,26 @@
 
 namespace chatterlab::app {
 
+// One test or group product that has just finished (PipelineOptions::on_finished).
+struct NodeFinished {
+  std::string name;  // test id ("." for the root) or "group:<name>"
+  bool group = false;
+  bool ok = false;
+  Failure failure = Failure::kNone;
+  std::string message;    // the skip or error reason when not ok
+  double runtime_s = 0;   // this test's or group's own time
+  double elapsed_s = 0;   // since run_campaign started
+  std::size_t done = 0;   // tests and groups finished so far, this one included
+  std::size_t total = 0;  // every test of the campaign and every group that applies
+};
+
 struct PipelineOptions {
   int jobs = 0;  // worker threads; 0: one per hardware thread
+  // Called once per test or group as it finishes (progress lines), from the worker thread that
+  // ran it; a test that does not run (unusable) counts as finished before the first one runs.
+  // Calls never overlap (the pipeline serializes them), so the callback needs no lock of its
+  // own; `done` counts up by one per call. An exception it throws is ignored.
+  std::function<void(const NodeFinished&)> on_finished;
 };
 
 struct InputFile {

@@ -1,6 +1,7 @@
 #include "app/report/report.h"
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <fstream>
 #include <iostream>
@@ -9,6 +10,8 @@
 #include <vector>
 
 #include "analysis/common/library_versions.h"
+#include "app/cli/exit_codes.h"
+#include "app/cli/progress.h"
 #include "app/core/format.h"
 #include "app/git_commit.h"
 #include "app/report/document.h"
@@ -93,24 +96,62 @@ FigureSet draw_figures(const CampaignResults& r, const std::filesystem::path& ou
   return work.draw(out, jobs);
 }
 
+// results.json `campaign` matches [A-Za-z0-9._-]+ (docs/results.schema.json): campaign.yaml
+// `name` when it is set and valid, else the campaign folder's name with every other character
+// as '-' ("campaign" when nothing is left).
+std::string results_campaign_name(const CampaignSpec& c) {
+  const auto valid_char = [](char ch) {
+    return std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '_' || ch == '-';
+  };
+  if (!c.name.empty() && std::all_of(c.name.begin(), c.name.end(), valid_char)) return c.name;
+  std::error_code ec;
+  std::filesystem::path root =
+      std::filesystem::weakly_canonical(std::filesystem::absolute(c.root, ec), ec);
+  if (root.filename().empty()) root = root.parent_path();
+  std::string name = root.filename().string();
+  for (char& ch : name) {
+    if (!valid_char(ch)) ch = '-';
+  }
+  if (name.empty() || name == "." || name == "..") name = "campaign";
+  return name;
+}
+
 }  // namespace
 
 int run_report(const std::filesystem::path& campaign_dir, const std::filesystem::path& out,
                const ReportOptions& options, std::ostream& log, const KindRegistry& kinds) {
   const auto t0 = std::chrono::steady_clock::now();
+  std::ostream& err = options.errors != nullptr ? *options.errors : log;
   CampaignSpec spec = load_campaign(campaign_dir, kinds);
   if (!std::filesystem::exists(spec.root / "campaign.yaml") ||
       !std::filesystem::is_directory(spec.root)) {
-    for (const auto& e : spec.errors) log << "chatterlab report: " << e << "\n";
-    return 1;
+    for (const auto& e : spec.errors) err << "chatterlab report: " << e << "\n";
+    return kExitInputError;
   }
   PipelineOptions popt;
   popt.jobs = options.jobs;
+  if (options.progress) {
+    log << "report: " << spec.tests.size() << " tests found in " << results_campaign_name(spec)
+        << std::endl;
+    const double after = options.estimate_after_s;
+    popt.on_finished = [&log, after](const NodeFinished& f) {
+      log << progress_line(f, after) << std::endl;  // flushed: a line as each one finishes
+    };
+  }
   CampaignResults r = run_campaign(std::move(spec), popt, kinds);
+  r.options.on_finished = nullptr;  // `log` is not for later users of r
   const TruthComparison truth = compare_with_truth(r);
 
+  if (options.before_writing) options.before_writing();
   std::filesystem::create_directories(out / "figures");
+  const auto t_figures = std::chrono::steady_clock::now();
   const FigureSet figures = draw_figures(r, out, options.jobs);
+  if (options.progress) {
+    log << "report: figures drawn in "
+        << format_duration(
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - t_figures).count())
+        << std::endl;
+  }
   // Files the tests write beside results.json, which names them.
   std::vector<std::string> file_errors;
   for (const auto& t : r.tests) {
@@ -125,7 +166,7 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
 
   json ctx;
   const auto& c = r.campaign;
-  ctx["campaign"] = {{"name", c.name.empty() ? c.root.filename().string() : c.name},
+  ctx["campaign"] = {{"name", c.name.empty() ? results_campaign_name(c) : c.name},
                      {"description", c.description},
                      {"workpiece", c.workpiece},
                      {"machine", c.machine},
@@ -214,13 +255,17 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
 
   // results.json first: it must exist even if the PDF step fails.
   {
+    json results = results_json(r, truth);
+    results["campaign"] = results_campaign_name(c);
     std::ofstream js(out / "results.json");
-    js << results_json(r, truth).dump(2) << "\n";
+    js << results.dump(2) << "\n";
   }
-  const bool pdf_written = write_documents("report.html", ctx, out, options.pdf, "report", log);
+  if (options.progress && options.pdf) log << "report: writing report.pdf" << std::endl;
+  const bool pdf_written = write_documents("report.html", ctx, out, options.pdf, "report", err);
   const int internal_errors = r.internal_errors();
-  int rc = options.pdf && !pdf_written ? 1 : 0;
-  if (internal_errors > 0) rc = 3;
+  int rc = options.pdf && !pdf_written ? kExitInputError : kExitOk;
+  if (ok == 0) rc = kExitNothingAnalysed;
+  if (internal_errors > 0) rc = kExitInternalError;
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   log << "report: " << r.tests.size() << " tests, " << ok << " analysed, "
       << r.tests.size() - static_cast<std::size_t>(ok) << " skipped; wrote "
@@ -230,8 +275,16 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
     log << "  skipped " << s["id"].get<std::string>() << ": " << s["reason"].get<std::string>()
         << "\n";
   for (const auto& s : internal)
-    log << "  INTERNAL ERROR " << s["id"].get<std::string>() << ": "
+    err << "chatterlab report: INTERNAL ERROR " << s["id"].get<std::string>() << ": "
         << s["reason"].get<std::string>() << "\n";
+  if (ok == 0) {
+    err << "chatterlab report: no test was analysed ("
+        << (r.tests.empty()
+                ? std::string("no test.yaml found below the campaign folder")
+                : "every one of the " + std::to_string(r.tests.size()) + " tests was skipped" +
+                      (internal_errors > 0 ? " or stopped on an internal error" : ""))
+        << "); exit status " << rc << "\n";
+  }
   return rc;
 }
 

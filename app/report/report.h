@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <ostream>
 
 #include "app/pipeline/pipeline.h"
@@ -12,11 +13,24 @@ namespace chatterlab::app {
 struct ReportOptions {
   bool pdf = true;  // also write report.pdf through WeasyPrint
   int jobs = 0;     // worker threads for tests and figures; 0: one per hardware thread
+  // A line on `log` as each test or group finishes ("[3/10] cuts/a ok 4.1 s, 12 s elapsed,
+  // ~28 s left"), flushed; the estimate of the time left once the run is estimate_after_s old.
+  bool progress = false;
+  double estimate_after_s = 10;
+  // Where errors go (the campaign that cannot be read, the PDF not written, internal errors,
+  // no test analysed): the CLI's stderr. nullptr: `log`.
+  std::ostream* errors = nullptr;
+  // Called once, after the campaign was read and before the first file is written to `out`
+  // (the CLI removes the previous run's files there: app/cli/output_folder.h).
+  std::function<void()> before_writing;
 };
 
-// Returns the process exit code: 0 when the report was written (skipped tests included),
-// 1 when the campaign could not be read at all or the PDF could not be written, 3 when a test
-// or group stopped on an internal error (the report is written and names it).
+// Returns the process exit code (app/cli/exit_codes.h, docs/cli.md#exit-status): 0 when the
+// report was written and at least one test analysed (skipped tests included); 1 when the
+// campaign could not be read at all (nothing written) or the PDF could not be written; 3 when
+// a test or group stopped on an internal error (the report is written and names it); 4 when
+// the report was written but no test was analysed (every test skipped, or none found).
+// Precedence: 3, then 4, then 1.
 int run_report(const std::filesystem::path& campaign, const std::filesystem::path& out,
                const ReportOptions& options, std::ostream& log,
                const KindRegistry& kinds = builtin_kinds());

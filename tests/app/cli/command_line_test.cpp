@@ -39,6 +39,29 @@ TEST(CommandLine, OptionsOfOtherCommandsAndUnknownOptionsAreErrors) {
   EXPECT_EQ(parse({}).error, "no command");
 }
 
+TEST(CommandLine, QuietForTheCommandsThatPrintProgress) {
+  for (const char* c : {"report", "simulate", "synth"}) {
+    const auto r = parse({c, "x", "--out", "o", "--quiet"});
+    EXPECT_EQ(r.error, "") << c;
+    EXPECT_TRUE(r.line.quiet) << c;
+    EXPECT_NE(command_usage(c).find("--quiet"), std::string::npos) << c;
+  }
+  EXPECT_FALSE(parse({"report", "x", "--out", "o"}).line.quiet);
+  EXPECT_EQ(parse({"validate", "camp", "--quiet"}).error,
+            "option '--quiet' does not apply to validate");
+}
+
+TEST(CommandLine, UsageNamesTheExitStatuses) {
+  for (const char* c : {"", "report", "validate", "simulate", "synth"}) {
+    const std::string u = command_usage(c);
+    EXPECT_NE(u.find("exit status:\n  0  done\n  1  bad input"), std::string::npos) << c;
+    EXPECT_NE(u.find("  3  internal error"), std::string::npos) << c;
+    EXPECT_NE(u.find("  4  report: the report was written but no test was analysed"),
+              std::string::npos)
+        << c;
+  }
+}
+
 TEST(CommandLine, HelpPerCommand) {
   const auto r = parse({"simulate", "--help"});
   EXPECT_EQ(r.error, "");
