@@ -259,5 +259,40 @@ TEST(ReportFiles, FrfFigureAndIdentifiedFilesBesideResultsJson) {
   EXPECT_EQ(units["zeta"], "-");
 }
 
+// sifs-tap tests write their FRF (sensor N per hammer N) the same way.
+TEST(ReportFiles, SifsTapFrfFiles) {
+  TempDir d;
+  const fs::path spec = d.write("spec.yaml",
+                                "format: chatterlab-synth/1\nname: sifs-files\nseed: 5\n"
+                                "tool: {teeth: 4, radius_mm: 9.525, helix_deg: 30}\nsifs: {}\n");
+  const fs::path campaign = d.path() / "campaign";
+  const fs::path out = d.path() / "report";
+  synthesize_campaign(spec, campaign);
+  std::ostringstream log;
+  ReportOptions opt;
+  opt.pdf = false;
+  opt.jobs = 2;
+  ASSERT_EQ(run_report(campaign, out, opt, log), 0) << log.str();
+  std::ifstream rin(out / "results.json");
+  const json r = json::parse(rin);
+  int taps = 0;
+  for (const auto& [id, t] : r["tests"].items()) {
+    if (t["kind"] != "sifs-tap" || t["status"] != "ok") continue;
+    ++taps;
+    const auto lines = lines_of(out / id / "frf.csv");
+    ASSERT_GE(lines.size(), 10u) << id;
+    EXPECT_EQ(lines[2], "f_hz,re,im,coherence,fit_re,fit_im") << id;
+    const auto functions = uff::read_uff58(out / id / "frf.uff");
+    ASSERT_EQ(functions.size(), 3u) << id;  // H1, fit, coherence
+    EXPECT_EQ(functions[0].function_type, uff::kFrf);
+    EXPECT_EQ(functions[1].id1, "fit " + id);
+    EXPECT_EQ(functions[2].function_type, uff::kCoherence);
+    EXPECT_EQ(static_cast<std::size_t>(functions[0].samples()), lines.size() - 3);
+    const auto table = frf_text::read_frf_text(out / id / "frf.csv", id);
+    EXPECT_EQ(table.f_hz.size(), functions[0].samples());
+  }
+  EXPECT_GE(taps, 2);
+}
+
 }  // namespace
 }  // namespace chatterlab::app
