@@ -343,6 +343,8 @@ void write_tap_frf_csv(const TapOutcome& tap, const std::string& test_id,
       {"h2_im", part(tap.h2, true)},
       {"fit_re", part(tap.fit_ok ? tap.fitted : Eigen::VectorXcd(), false)},
       {"fit_im", part(tap.fit_ok ? tap.fitted : Eigen::VectorXcd(), true)}};
+  // An FRF read from a file has no H2 (it would repeat H1) and a coherence only if the file had.
+  if (tap.from_file) cols.erase(cols.begin() + 4, cols.begin() + 6);
   if (!tap.has_coherence) cols.erase(cols.begin() + 3);
   std::filesystem::create_directories(file.parent_path());
   frf_text::write_csv(file, comments, cols);

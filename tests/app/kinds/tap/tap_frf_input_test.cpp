@@ -165,6 +165,20 @@ TEST_F(RealTapFrfInput, AccelerancePolarSemicolonExportGivesTheSameModes) {
   EXPECT_FALSE(b.has_coherence);
   EXPECT_LT((b.h1 - a.h1).cwiseAbs().maxCoeff(), 1e-12 * a.h1.cwiseAbs().maxCoeff());
   ASSERT_TRUE(b.fit_ok) << b.fit_message;
+  // Its figure has no H2 and no coherence panel; its frf.csv no H2 and no coherence columns.
+  const render::Figure fig = tap_frf_figure(b);
+  EXPECT_NO_THROW(render::validate(fig));
+  ASSERT_EQ(fig.panels.size(), 2u);
+  EXPECT_EQ(fig.panels[0].series.size(), 2u);  // measured, fit
+  EXPECT_EQ(fig.panels[1].x_label, "frequency [Hz]");
+  write_tap_frf_csv(b, "lab", dir.path() / "out/frf.csv");
+  {
+    std::ifstream in(dir.path() / "out/frf.csv");
+    std::string line;
+    while (std::getline(in, line) && line.rfind("# ", 0) == 0) {
+    }
+    EXPECT_EQ(line, "f_hz,re,im,fit_re,fit_im");
+  }
   // Every mode of the time-record fit is found from the export (coherence 1 may add some).
   for (const auto& m : a.modes) {
     double best = 1e9;
