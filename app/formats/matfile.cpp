@@ -12,6 +12,10 @@
 namespace chatterlab::app::mat {
 namespace {
 
+// The HDF5 library under libmatio (v7.3) is built without thread safety, and the pipeline
+// opens signal files from several threads: every libmatio call holds this lock.
+std::recursive_mutex matio_mutex;
+
 // libmatio prints its diagnostics to stderr; keep the last one for our message instead.
 std::mutex log_mutex;
 std::string last_log;
@@ -104,6 +108,7 @@ double element(const matvar_t& v, std::size_t i) {
 }  // namespace
 
 std::vector<Variable> numeric_variables(const std::filesystem::path& file) {
+  const std::lock_guard<std::recursive_mutex> lock(matio_mutex);
   File m = open_read(file);
   std::vector<Variable> out;
   while (Var v{Mat_VarReadNextInfo(m.get())}) {
@@ -135,6 +140,7 @@ Var read_numeric(mat_t* m, const std::filesystem::path& file, const std::string&
 }  // namespace
 
 Eigen::MatrixXd read_matrix(const std::filesystem::path& file, const std::string& name) {
+  const std::lock_guard<std::recursive_mutex> lock(matio_mutex);
   File m = open_read(file);
   const Var v = read_numeric(m.get(), file, name);
   const std::size_t rows = v->dims[0], cols = v->dims[1];
@@ -145,6 +151,7 @@ Eigen::MatrixXd read_matrix(const std::filesystem::path& file, const std::string
 
 Eigen::VectorXd read_vector(const std::filesystem::path& file, const std::string& name,
                             std::optional<std::size_t> column) {
+  const std::lock_guard<std::recursive_mutex> lock(matio_mutex);
   File m = open_read(file);
   const Var v = read_numeric(m.get(), file, name);
   const std::string where = file.string() + ": variable '" + name + "'";
@@ -171,6 +178,7 @@ Eigen::VectorXd read_vector(const std::filesystem::path& file, const std::string
 }
 
 bool v73_supported() {
+  const std::lock_guard<std::recursive_mutex> lock(matio_mutex);
   init_log();
   const auto probe = std::filesystem::temp_directory_path() /
                      ("chatterlab-mat73-probe-" + std::to_string(::getpid()) + ".mat");
@@ -186,6 +194,7 @@ bool v73_supported() {
 void write_mat(const std::filesystem::path& file,
                const std::vector<std::pair<std::string, Eigen::MatrixXd>>& variables,
                Version version) {
+  const std::lock_guard<std::recursive_mutex> lock(matio_mutex);
   init_log();
   const char* what = version == Version::kV73 ? "v7.3" : "v5";
   File m(
