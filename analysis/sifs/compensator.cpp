@@ -84,6 +84,7 @@ struct Filter {
   // Time-varying gains K_1.. from P0+ = 0 (003 table 5, eqs 5-48..5-50) with Q = (q/r) Qd_unit
   // and R = 1 (the invariance of compensator.h), at most `limit` of them; returns how many
   // were stored and whether the last one met kGainConvergence.
+  static constexpr Index kInitialGainColumns = 4096;
   static Index gain_sequence(const CompensatorModel& m, double q_over_r, Index limit, Gains* gains,
                              bool* converged) {
     const Index n = m.states;
@@ -92,9 +93,12 @@ struct Filter {
     const Row H = m.H;
     Mat P = Mat::Zero(n, n), FP(n, n), Pm(n, n);
     Vec PHt(n);
-    gains->resize(n, std::max<Index>(limit, 1));
+    // Grown by doubling: the gain converges within a few thousand steps, so a long record does
+    // not hold a gain column per sample (a 10^7-sample record would take GBs).
+    gains->resize(n, std::min<Index>(std::max<Index>(limit, 1), kInitialGainColumns));
     *converged = false;
     for (Index k = 0; k < limit; ++k) {
+      if (k == gains->cols()) gains->conservativeResize(n, std::min(limit, 2 * gains->cols()));
       FP.noalias() = F * P;
       Pm.noalias() = FP * F.transpose();
       Pm += Q;  // eq. 5-48

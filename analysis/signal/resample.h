@@ -19,10 +19,17 @@ namespace chatterlab {
 namespace signal {
 
 struct ResampleOptions {
-  double cutoff_fraction = 0.9;    // of the lower Nyquist frequency (pass band edge ~ this)
-  double kaiser_beta = 8.0;        // stop-band attenuation ~ 80 dB
-  int half_length_per_phase = 12;  // taps each side = this * max(up, down)
-  int max_factor = 10000;          // largest up or down accepted (rates that reduce badly)
+  // The -6 dB point, as a fraction of the lower Nyquist frequency. With the half-length below the
+  // transition band is about +-0.05 of the Nyquist frequency around it: flat (ripple ~1e-4) up
+  // to 0.9 of Nyquist, where the sifs harmonics end (format section 6: h SF <= 0.45 x the
+  // filter rate), and >= 80 dB down from Nyquist on, so nothing folds back into the band.
+  double cutoff_fraction = 0.95;
+  double kaiser_beta = 7.86;  // stop-band attenuation ~ 80 dB (0.1102 (80 - 8.7))
+  // Taps each side = this * max(up, down): a Kaiser filter of attenuation A dB over a transition
+  // of width df (cycles per sample) needs (A - 8) / (14.36 df) taps; df = 0.1 Nyquist =
+  // 0.05 / max(up, down) gives 100 max(up, down).
+  int half_length_per_phase = 50;
+  int max_factor = 10000;  // largest up or down accepted (rates that reduce badly)
 };
 
 class RationalResampler {

@@ -66,7 +66,14 @@ std::optional<double> read_tool_length(const YAML::Node& root, YamlReader& r) {
 
 Eigen::Matrix3d SifsCalibration::at(const std::optional<double>& length_mm,
                                     std::string* note) const {
-  if (by_length.empty()) return C;
+  if (by_length.empty()) {
+    if (note && single_length_mm && length_mm &&
+        std::abs(*single_length_mm - *length_mm) > 1e-9 * std::max(1.0, *length_mm)) {
+      *note = "the static tests calibrate tool_length_mm " + fmt_sig(*single_length_mm, 6) +
+              " only; that calibration is used for " + fmt_sig(*length_mm, 6) + " mm";
+    }
+    return C;
+  }
   if (!length_mm) {
     std::string lengths;
     for (const auto& [L, m] : by_length) lengths += (lengths.empty() ? "" : ", ") + fmt_sig(L, 6);
@@ -129,6 +136,20 @@ sifs::TapSweepInput tap_sweep_input(const SifsTapData& tap, double filter_rate_h
     const Eigen::Index impact =
         static_cast<Eigen::Index>(std::llround(static_cast<double>(tap.impact[i]) * ratio));
     in.pre_end.push_back(std::max<Eigen::Index>(1, impact - guard - b));
+  }
+  // R_tap at the filter rate: the RMS of the pooled pre-impact responses (each with its own mean
+  // removed) of the record the filter sees, so that q/R means the same in the tap sweep and in
+  // the cut, whose R is measured at the filter rate too (resampling to a lower rate removes the
+  // noise above the new Nyquist frequency). Equal to tap.r_tap_n when the rates agree.
+  if (std::abs(ratio - 1.0) >= 1e-12) {
+    double sum_sq = 0.0;
+    Eigen::Index count = 0;
+    for (std::size_t i = 0; i < in.windows.size(); ++i) {
+      const auto seg = in.response_n.segment(in.windows[i].begin, in.pre_end[i]);
+      sum_sq += (seg.array() - seg.mean()).square().sum();
+      count += seg.size();
+    }
+    if (count > 1) in.r_tap_n = std::sqrt(sum_sq / static_cast<double>(count));
   }
   return in;
 }

@@ -270,6 +270,21 @@ void SifsCutKind::run(const TestSpec& t, const CampaignValues& in, const RunCont
     for (int k = 0; k < 2; ++k) ref.col(k).array() -= ref.col(k).segment(b, e - b).mean();
   }
 
+  for (int a = 0; a < 2; ++a) {
+    for (const auto& m : taps[a]->modes) {
+      if (m.fn_hz < 0.5 * fr) continue;
+      throw InputError(t.yaml_label + ": the sensor model of " + taps[a]->id + " has a mode at " +
+                       fmt_sig(m.fn_hz, 5) + " Hz, at or above the filter's Nyquist frequency (" +
+                       fmt_sig(0.5 * fr, 5) +
+                       " Hz): raise filter_rate_hz, or fit that tap test in a band_hz below it");
+    }
+  }
+  if (s.unbalance_harmonics * res->spindle_hz >= 0.5 * fs) {
+    throw InputError(
+        t.yaml_label + ": key 'unbalance_harmonics': " + std::to_string(s.unbalance_harmonics) +
+        " x the spindle frequency (" + fmt_sig(res->spindle_hz, 6) +
+        " Hz) reaches the record's Nyquist frequency (" + fmt_sig(0.5 * fs, 6) + " Hz)");
+  }
   const Eigen::Index air_b = to_index(s.air_lo_s, fs, n), air_e = to_index(s.air_hi_s, fs, n);
   std::vector<int> ub_h;
   for (int h = 1; h <= s.unbalance_harmonics; ++h) ub_h.push_back(h);
@@ -297,8 +312,8 @@ void SifsCutKind::run(const TestSpec& t, const CampaignValues& in, const RunCont
       ax.r_cut_n = rms(ax.measured_n.segment(ab, ae - ab));
       // 4. Tap sweep at this speed: q_opt.
       const SifsTapData& tap = *taps[ai];
-      ax.r_tap_n = tap.r_tap_n;
       const sifs::TapSweepInput tin = tap_sweep_input(tap, fr, band_lo, band_hi, s.gain);
+      ax.r_tap_n = tin.r_tap_n;
       ax.tap_curve = sifs::tap_sweep(tin, s.spindle_rpm, res->teeth);
       if (!ax.tap_curve.summary.ok()) {
         errors[ai] = "tap sweep on " + tap.id + ": " + ax.tap_curve.summary.message;

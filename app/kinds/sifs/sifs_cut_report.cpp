@@ -242,9 +242,14 @@ void SifsCutGroup::run(const CampaignValues& in, const RunContext& ctx, GroupOut
       missing = in.why_missing(value::sifs_tap(ids[a]), "the sensor model of " + ids[a]);
       continue;
     }
-    const sifs::TapSweepInput tin =
-        tap_sweep_input(**p, g->filter_rate_hz, band_lo, band_hi, s.gain);
-    g->maps[static_cast<std::size_t>(a)] = sifs::tap_map(tin, grid, g->teeth, ctx.jobs);
+    try {
+      const sifs::TapSweepInput tin =
+          tap_sweep_input(**p, g->filter_rate_hz, band_lo, band_hi, s.gain);
+      g->maps[static_cast<std::size_t>(a)] = sifs::tap_map(tin, grid, g->teeth, ctx.jobs);
+    } catch (const InputError& e) {
+      throw InputError("tap map of " + ids[a] + " at the filter rate of " + first->id + ": " +
+                       e.what());
+    }
   }
   out.result = std::move(g);
   if (!missing.empty()) {
@@ -333,7 +338,7 @@ render::Figure sifs_map_figure(const SifsCutGroupResult& g) {
       y.push_back(m.best_exponent[i] > 0 ? m.best_exponent[i]
                                          : std::numeric_limits<double>::quiet_NaN());
     }
-    p.series.emplace_back(x, y, "tap-test optimum (map argmin)", render::SeriesStyle::kLine,
+    p.series.emplace_back(x, y, "tap-test choice (0.5 % rule)", render::SeriesStyle::kLine,
                           "#0072B2");
     std::vector<double> cx, cy;
     for (const auto& c : g.cuts) {

@@ -46,6 +46,7 @@ struct SifsCalibration {
   std::vector<std::pair<double, Eigen::Matrix3d>> by_length;  // ascending length; empty: one C
   Eigen::Matrix3d slope_per_mm = Eigen::Matrix3d::Zero();
   Eigen::Matrix3d intercept = Eigen::Matrix3d::Zero();
+  std::optional<double> single_length_mm;  // the one length the static tests name, if any
   // The matrix for a test of tool length L (mm, absent: none given): the single C; the
   // calibration of that length; else the law at L (*note says so). Throws InputError naming
   // `tool_length_mm` when several lengths were calibrated and the test gives none.

@@ -198,6 +198,9 @@ void SifsStaticGroup::run(const CampaignValues& in, const RunContext& ctx,
     // One tool (or none named): one calibration over every window.
     g->fit = sifs::fit_calibration(g->tests);
     g->calibration.C = g->fit.C;
+    if (by_length.size() == 1 && !some_without) {
+      g->calibration.single_length_mm = by_length.begin()->first;
+    }
     finish(g->fit.summary);
     return;
   }

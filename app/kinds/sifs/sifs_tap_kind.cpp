@@ -177,7 +177,30 @@ void SifsTapKind::run(const TestSpec& t, const CampaignValues& in, const RunCont
                          fmt_sig(static_cast<double>(n) / fs, 6) + " s, the shortest " +
                          fmt_sig(static_cast<double>(len) / fs, 6) + " s)");
       }
-      data->windows.push_back({b, std::min<Eigen::Index>(b + len, data->hammer_n.size())});
+      if (b + len > data->hammer_n.size()) {
+        throw InputError(t.yaml_label + ": key 'hits[" + std::to_string(i) + "]': the window [" +
+                         fmt_sig(s.hits_s[i].first, 6) + ", " +
+                         fmt_sig(s.hits_s[i].first + static_cast<double>(len) / fs, 6) +
+                         "] s runs past the end of the record (" +
+                         fmt_sig(static_cast<double>(data->hammer_n.size()) / fs, 6) + " s)");
+      }
+      data->windows.push_back({b, b + len});
+    }
+  }
+  // A window shorter than this resolves the FRF more coarsely than a tap test should (auto:
+  // the closest pair of hits, or a hit near the record's end, sets every window's length).
+  constexpr double kShortWindowS = 0.1;
+  if (!data->windows.empty()) {
+    const double w_s =
+        static_cast<double>(data->windows.front().end - data->windows.front().begin) / fs;
+    if (w_s < kShortWindowS) {
+      out.warnings.push_back("hit windows are " + fmt_sig(w_s, 3) +
+                             " s long (frequency resolution " + fmt_sig(1.0 / w_s, 3) + " Hz)" +
+                             (s.auto_hits
+                                  ? ": with hits: auto the closest pair of hits (or a hit near "
+                                    "the record's end) sets the length of every window; "
+                                    "give the windows as hits: [[start, end], ...]"
+                                  : ""));
     }
   }
   auto res = std::make_unique<SifsTapResult>();

@@ -121,3 +121,34 @@ TEST(SifsOtherTools, ContractCampaignWithOptionalKeysRuns) {
 
 }  // namespace
 }  // namespace chatterlab::app
+
+namespace chatterlab::app {
+namespace {
+
+// A filter rate whose Nyquist frequency (2 kHz) lies below the taps' third mode (2.4 kHz): the
+// cut is skipped with a message naming the tap test, the mode and the fix; the taps still run.
+TEST(SifsOtherTools, TapModeAboveTheFilterNyquistSkipsTheCut) {
+  TempDir d;
+  const fs::path campaign = d.path() / "campaign", report = d.path() / "report";
+  synthesize_campaign(d.write("spec.yaml", kSpec), campaign);
+  const fs::path cut_yaml = campaign / "sifs/cut-n09000/test.yaml";
+  YAML::Node y = YAML::LoadFile(cut_yaml.string());
+  y["filter_rate_hz"] = 4000;
+  std::ofstream(cut_yaml) << y << "\n";
+  ReportOptions o;
+  o.pdf = false;
+  o.jobs = 2;
+  std::ostringstream log;
+  run_report(campaign, report, o, log);
+  const json r = json::parse(read_text(report / "results.json"));
+  const json& cut = r["tests"]["sifs/cut-n09000"];
+  EXPECT_EQ(cut["status"], "skipped");
+  const std::string why = cut["skip_reason"].get<std::string>();
+  EXPECT_NE(why.find("the sensor model of sifs/tap-x has a mode at 2399"), std::string::npos)
+      << why;
+  EXPECT_NE(why.find("raise filter_rate_hz"), std::string::npos) << why;
+  EXPECT_EQ(r["tests"]["sifs/tap-x"]["status"], "ok");
+}
+
+}  // namespace
+}  // namespace chatterlab::app
