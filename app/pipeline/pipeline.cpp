@@ -286,6 +286,10 @@ CampaignResults run_campaign(CampaignSpec campaign, const PipelineOptions& optio
 void check_signals(TestSpec& t, const KindRegistry& kinds) {
   const TestKind* kind = kinds.find(t.kind);
   if (!t.usable() || !kind) return;
+  // A usable test without a data file has none to open: a tap test from a measured FRF
+  // (test.yaml `frf:`; the loader requires data of every other test). Its file is read and
+  // checked by the kind's run.
+  if (t.data.relative_file.empty() && t.kind == "tap") return;
   const std::string label = (t.id.empty() ? "" : t.id + "/") + t.data.relative_file;
   try {
     const SignalTable table = SignalTable::open(t.data, label);
