@@ -180,6 +180,23 @@ frf::Frf read_tap_frf(const TestSpec& t, std::vector<std::string>* warnings, std
   return f;
 }
 
+namespace {
+
+// The FRF (from hits or from a file) into the outcome, then the modal fit.
+void take_frf(const frf::Frf& f, const TapSpec& tap, const TapStepOptions& options,
+              TapOutcome& out) {
+  out.f_hz = f.f_hz;
+  out.h1 = f.h1;
+  out.h2 = f.h2;
+  out.coherence = f.coherence;
+  out.df_hz = f.df_hz;
+  if (f.exp_window_tau_s > 0) out.exp_window_tau_s = f.exp_window_tau_s;
+  out.summary.succeed();
+  fit_into(f, tap, options, out);
+}
+
+}  // namespace
+
 TapOutcome run_tap_test(const TestSpec& t, const TapStepOptions& options) {
   TapOutcome out;
   const TapSpec& tap = t.kind_spec<TapSpec>();
@@ -187,14 +204,7 @@ TapOutcome run_tap_test(const TestSpec& t, const TapStepOptions& options) {
     const frf::Frf f = read_tap_frf(t, &out.warnings, &out.frf_columns, &out.has_coherence);
     out.from_file = true;
     out.frf_file = tap.frf->file;
-    out.f_hz = f.f_hz;
-    out.h1 = f.h1;
-    out.h2 = f.h2;
-    out.coherence = f.coherence;
-    out.df_hz = f.df_hz;
-    if (f.exp_window_tau_s > 0) out.exp_window_tau_s = f.exp_window_tau_s;
-    out.summary.succeed();
-    fit_into(f, tap, options, out);
+    take_frf(f, tap, options, out);
     return out;
   }
   const std::string label = (t.id.empty() ? "" : t.id + "/") + t.data.relative_file;
@@ -227,14 +237,7 @@ TapOutcome run_tap_test(const TestSpec& t, const TapStepOptions& options) {
     return out;
   }
   out.hits_used = f.hits_used;
-  out.f_hz = f.f_hz;
-  out.h1 = f.h1;
-  out.h2 = f.h2;
-  out.coherence = f.coherence;
-  out.df_hz = f.df_hz;
-  if (f.exp_window_tau_s > 0) out.exp_window_tau_s = f.exp_window_tau_s;
-  out.summary.succeed();
-  fit_into(f, tap, options, out);
+  take_frf(f, tap, options, out);
   return out;
 }
 
