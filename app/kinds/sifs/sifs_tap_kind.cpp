@@ -8,6 +8,7 @@
 #include "app/formats/uff58.h"
 #include "app/kinds/sifs/sifs_common.h"
 #include "app/kinds/sifs/sifs_kinds.h"
+#include "app/kinds/tap/tap_kind.h"
 #include "app/report/figure_jobs.h"
 #include "app/report/results_json.h"
 #include "app/report/truth.h"
@@ -263,6 +264,9 @@ json SifsTapKind::results(const TestOutcome& out) const {
           {"cond_A", r.realization.cond_A},
           {"obsv_rcond", r.obsv_rcond},
           {"r_N", r.frf.r_tap_n},
+          {"frf_csv", tap_frf_csv_path(out.spec->id)},
+          {"frf_uff", tap_frf_uff_path(out.spec->id)},
+          {"figure_data", {{"frf", figure_stem("sifs-tap", out.spec->id) + "frf.csv"}}},
           {"bandwidth_before_hz", r.bandwidth_before_hz},
           {"antiresonances_hz", to_vector(r.antiresonances_hz)}};
 }
@@ -334,9 +338,8 @@ void SifsTapKind::write_files(const TestOutcome& out,
   const std::string& id = out.spec->id;
   Eigen::VectorXcd fit(n);
   for (Eigen::Index i = 0; i < n; ++i) fit[i] = sifs::sensor_response(t.model.modes, f.f_hz[i]);
-  const std::filesystem::path dir = report_dir / (id.empty() ? "." : id);
-  std::filesystem::create_directories(dir);
-  frf_text::write_csv(dir / "frf.csv",
+  std::filesystem::create_directories((report_dir / tap_frf_csv_path(id)).parent_path());
+  frf_text::write_csv(report_dir / tap_frf_csv_path(id),
                       {"chatterlab " + std::string(CHATTERLAB_VERSION) + ", sifs-tap test " +
                            (id.empty() ? std::string(".") : id),
                        "sensor force per hammer force (N/N); re, im: H1 over the hits; fit_re, "
@@ -380,7 +383,7 @@ void SifsTapKind::write_files(const TestOutcome& out,
     c.y_label = "Coherence";
     fs.push_back(std::move(c));
   }
-  uff::write_uff58(dir / "frf.uff", fs);
+  uff::write_uff58(report_dir / tap_frf_uff_path(id), fs);
 }
 
 void SifsTapKind::figures(const CampaignResults&, const TestOutcome& out, FigureJobs& jobs) const {

@@ -279,6 +279,10 @@ TEST(ReportFiles, SifsTapFrfFiles) {
   for (const auto& [id, t] : r["tests"].items()) {
     if (t["kind"] != "sifs-tap" || t["status"] != "ok") continue;
     ++taps;
+    // results.json names both files and the figure's data.
+    ASSERT_EQ(t["frf_csv"], id + "/frf.csv");
+    ASSERT_EQ(t["frf_uff"], id + "/frf.uff");
+    EXPECT_TRUE(fs::exists(out / t["figure_data"]["frf"].get<std::string>()));
     const auto lines = lines_of(out / id / "frf.csv");
     ASSERT_GE(lines.size(), 10u) << id;
     EXPECT_EQ(lines[2], "f_hz,re,im,coherence,fit_re,fit_im") << id;
