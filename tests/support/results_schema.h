@@ -17,10 +17,9 @@ struct SchemaCheck {
 
 inline SchemaCheck check_results_schema(const std::filesystem::path& results_json) {
   const std::filesystem::path source(CHATTERLAB_SOURCE_DIR);
-  const std::string cmd = "/usr/bin/python3 '" +
-                          (source / "tests/support/validate_json_schema.py").string() + "' '" +
-                          (source / "docs/results.schema.json").string() + "' '" +
-                          results_json.string() + "' 2>&1";
+  const std::string cmd =
+      "/usr/bin/python3 '" + (source / "tests/support/validate_json_schema.py").string() + "' '" +
+      (source / "docs/results.schema.json").string() + "' '" + results_json.string() + "' 2>&1";
   SchemaCheck c;
   FILE* pipe = ::popen(cmd.c_str(), "r");
   if (!pipe) return c;
