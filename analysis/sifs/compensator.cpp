@@ -143,8 +143,10 @@ struct Filter {
   }
 
   static StepSummary compensate(const CompensatorModel& m, double q_over_r, GainMode gain,
-                                const Eigen::Ref<const VectorXd>& z, VectorXd* estimate) {
+                                const Eigen::Ref<const VectorXd>& z, VectorXd* estimate,
+                                Index* gain_steps) {
     StepSummary summary;
+    if (gain_steps) *gain_steps = 0;
     estimate->resize(z.size());
     if (z.size() == 0) {
       summary.succeed();
@@ -164,6 +166,7 @@ struct Filter {
     } else {
       bool converged = false;
       steps = gain_sequence(m, q_over_r, z.size(), &gains, &converged);
+      if (gain_steps) *gain_steps = converged ? steps : -1;
       std::ostringstream d;
       if (converged) {
         d << "time-varying gain converged (|K_k - K_k-1| <= " << kGainConvergence
@@ -298,19 +301,9 @@ Eigen::VectorXd steady_gain(const CompensatorModel& m, double q_over_r) {
   return s.K.col(0);
 }
 
-Eigen::Index gain_convergence_steps(const CompensatorModel& m, double q_over_r,
-                                    Eigen::Index max_steps) {
-  require_rule(std::isfinite(q_over_r) && q_over_r > 0.0, "gain_convergence_steps: q_over_r",
-               q_over_r, "must be finite and > 0");
-  Filter<Eigen::Dynamic>::Gains gains;
-  bool converged = false;
-  const Index steps =
-      Filter<Eigen::Dynamic>::gain_sequence(m, q_over_r, max_steps, &gains, &converged);
-  return converged ? steps : -1;
-}
-
 StepSummary compensate(const CompensatorModel& m, double q, double r, GainMode gain,
-                       const Eigen::Ref<const Eigen::VectorXd>& z, Eigen::VectorXd* estimate) {
+                       const Eigen::Ref<const Eigen::VectorXd>& z, Eigen::VectorXd* estimate,
+                       Eigen::Index* gain_steps) {
   require_rule(m.states >= 5 && m.F.rows() == m.states, "compensate: model states", m.states,
                "must come from make_compensator (2k + 3 >= 5)");
   require_rule(std::isfinite(q) && q > 0.0, "compensate: q", q, "must be finite and > 0");
@@ -325,19 +318,19 @@ StepSummary compensate(const CompensatorModel& m, double q, double r, GainMode g
   const double q_over_r = q / r;
   switch (m.states) {
     case 5:
-      return Filter<5>::compensate(m, q_over_r, gain, z, estimate);
+      return Filter<5>::compensate(m, q_over_r, gain, z, estimate, gain_steps);
     case 7:
-      return Filter<7>::compensate(m, q_over_r, gain, z, estimate);
+      return Filter<7>::compensate(m, q_over_r, gain, z, estimate, gain_steps);
     case 9:
-      return Filter<9>::compensate(m, q_over_r, gain, z, estimate);
+      return Filter<9>::compensate(m, q_over_r, gain, z, estimate, gain_steps);
     case 11:
-      return Filter<11>::compensate(m, q_over_r, gain, z, estimate);
+      return Filter<11>::compensate(m, q_over_r, gain, z, estimate, gain_steps);
     case 13:
-      return Filter<13>::compensate(m, q_over_r, gain, z, estimate);
+      return Filter<13>::compensate(m, q_over_r, gain, z, estimate, gain_steps);
     case 15:
-      return Filter<15>::compensate(m, q_over_r, gain, z, estimate);
+      return Filter<15>::compensate(m, q_over_r, gain, z, estimate, gain_steps);
     default:
-      return Filter<Eigen::Dynamic>::compensate(m, q_over_r, gain, z, estimate);
+      return Filter<Eigen::Dynamic>::compensate(m, q_over_r, gain, z, estimate, gain_steps);
   }
 }
 

@@ -66,14 +66,13 @@ CompensatorModel make_compensator(const std::vector<SensorMode>& modes, double t
 // Runs the filter over z (the measured force at the filter rate) and writes f_a_hat = C_o x+ at
 // each step into *estimate (resized to z.size()). Fixed-size filter steps for k <= 6 modes
 // (dispatch on 2k + 3 states), dynamic above. q > 0, r > 0.
+// *gain_steps (optional): the samples until the time-varying gain converged by the rule of
+// kTimeVarying (the gain is then held), -1 when it had not by the end of z, 0 for the
+// steady-state gain.
 // @return the summary: fails when the DARE does not converge (steady-state mode)
 StepSummary compensate(const CompensatorModel& m, double q, double r, GainMode gain,
-                       const Eigen::Ref<const Eigen::VectorXd>& z, Eigen::VectorXd* estimate);
-
-// Samples until the time-varying gain from P0 = 0 converges by the rule of kTimeVarying (the
-// gain is then held), or -1 when it has not within max_steps.
-Eigen::Index gain_convergence_steps(const CompensatorModel& m, double q_over_r,
-                                    Eigen::Index max_steps);
+                       const Eigen::Ref<const Eigen::VectorXd>& z, Eigen::VectorXd* estimate,
+                       Eigen::Index* gain_steps = nullptr);
 
 // K_inf (states x 1) of the DARE with Q = (q/r) Qd_unit, R = 1. Throws InputError for
 // q_over_r <= 0; an unconverged DARE returns an empty vector.

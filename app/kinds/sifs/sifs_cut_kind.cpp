@@ -326,8 +326,9 @@ void SifsCutKind::run(const TestSpec& t, const CampaignValues& in, const RunCont
           sifs::make_compensator(tap.modes, res->tooth_passing_hz, fr);
       ax.cond_F = model.cond_F;
       ax.obsv_rcond = model.obsv_rcond;
-      const StepSummary fs_sum =
-          sifs::compensate(model, ax.q, ax.r_cut_n, s.gain, ax.measured_n, &ax.compensated_n);
+      Eigen::Index steps = 0;
+      const StepSummary fs_sum = sifs::compensate(model, ax.q, ax.r_cut_n, s.gain, ax.measured_n,
+                                                  &ax.compensated_n, &steps);
       if (!fs_sum.ok()) {
         errors[ai] = "filter: " + fs_sum.message;
         return;
@@ -338,8 +339,6 @@ void SifsCutKind::run(const TestSpec& t, const CampaignValues& in, const RunCont
         ax.warnings.insert(ax.warnings.end(), w->begin(), w->end());
       ax.gain_converged_s = kNaN;
       if (s.gain == sifs::GainMode::kTimeVarying) {
-        const Eigen::Index steps =
-            sifs::gain_convergence_steps(model, ax.q / ax.r_cut_n, ax.measured_n.size());
         if (steps >= 0) ax.gain_converged_s = static_cast<double>(steps) / fr;
         if (steps < 0 || steps > res->cut_begin) {
           ax.warnings.push_back(
