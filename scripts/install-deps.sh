@@ -11,7 +11,7 @@ PACKAGES=(
   gnuplot-nox libosmesa6-dev libpng-dev
   libmatio-dev
   libssl-dev weasyprint poppler-utils fonts-dejavu-core
-  python3-jsonschema
+  python3-jsonschema chromium
 )
 
 missing=()
