@@ -10,7 +10,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox libosmesa6-dev libpng-dev
   libmatio-dev
-  libssl-dev weasyprint poppler-utils fonts-dejavu-core
+  libssl-dev weasyprint qpdf poppler-utils fonts-dejavu-core
   python3-jsonschema chromium
 )
 
