@@ -135,8 +135,8 @@ TEST_F(HtmlToPdfPdfaTest, Pdfa3bWithResultsJsonPassesEveryCheck) {
   const json objects = pdf_objects(pdf);
   const json& trailer = objects.at("trailer").at("value");
   EXPECT_FALSE(trailer.contains("/Encrypt"));
-  ASSERT_TRUE(trailer.contains("/ID")) << "6.1.3: the trailer has a file identifier";
-  EXPECT_EQ(trailer["/ID"].size(), 2u);
+  EXPECT_EQ(trailer.value("/ID", json::array()).size(), 2u)
+      << "6.1.3: the trailer has a file identifier";
   const json& catalog = deref(objects, trailer.at("/Root")).at("value");
   const json& info = deref(objects, trailer.at("/Info")).at("value");
 
