@@ -2,6 +2,8 @@
 
 #include <sys/stat.h>
 
+#include <cctype>
+#include <cstdio>
 #include <ctime>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -352,6 +354,13 @@ std::vector<std::string> html_to_pdf(const std::filesystem::path& html,
                       " cannot carry attachments (PDF/A-3b can)");
   }
   for (const auto& a : options.attachments) {
+    const std::string& rel = a.relationship;
+    if (rel != "Data" && rel != "Source" && rel != "Alternative" && rel != "Supplement" &&
+        rel != "Unspecified") {
+      throw RenderError("html_to_pdf " + html.string() + ": attachment " + a.file.string() +
+                        ": relationship \"" + rel +
+                        "\" is not one of Data, Source, Alternative, Supplement, Unspecified");
+    }
     if (!std::filesystem::is_regular_file(a.file, ec)) {
       throw RenderError("html_to_pdf " + html.string() + ": attachment " + a.file.string() +
                         " does not exist or is not a file");

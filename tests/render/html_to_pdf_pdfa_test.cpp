@@ -308,6 +308,9 @@ TEST_F(HtmlToPdfPdfaTest, AttachmentsNeedPdfa3) {
   EXPECT_THROW(html_to_pdf(html, dir_.path() / "a.pdf", options), RenderError);
   options.variant = "pdf/a-3";
   EXPECT_THROW(html_to_pdf(html, dir_.path() / "a.pdf", options), RenderError);
+  options.variant = "pdf/a-3b";
+  options.attachments[0].relationship = "data";  // the PDF name is case-sensitive
+  EXPECT_THROW(html_to_pdf(html, dir_.path() / "a.pdf", options), RenderError);
   EXPECT_FALSE(std::filesystem::exists(dir_.path() / "a.pdf"));
 }
 
