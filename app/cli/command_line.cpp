@@ -49,8 +49,17 @@ const std::vector<CommandSpec>& commands() {
       {"synth",
        "chatterlab synth <spec.yaml> --out <campaign> [--quiet]",
        "write a synthetic campaign with truth.yaml (spec format: docs/format/synth-spec.md)",
-       {{"--out", true, "the campaign folder (created)"},
+       {{"--out", true,
+         "the campaign folder: new, empty, or one chatterlab wrote (its previous files are "
+         "removed)"},
         {"--quiet", false, "no summary on stdout; warnings and errors still on stderr"}}},
+      {"init",
+       "chatterlab init <folder> [--write]",
+       "look at the data files of a folder and propose campaign.yaml and test.yaml files "
+       "(kinds, sample rates, column mapping; TODO for what it cannot tell); print them",
+       {{"--write", false,
+         "write the proposed files into the folder (an existing campaign.yaml or test.yaml is "
+         "never overwritten)"}}},
   };
   return c;
 }
@@ -69,7 +78,8 @@ const char* const kExitStatusText =
     "exit status:\n"
     "  0  done\n"
     "  1  bad input: the campaign or spec cannot be read, --out refused, validate found a\n"
-    "     problem, the PDF not written, a simulation that did not complete\n"
+    "     problem, the PDF not written, a simulation that did not complete, init found no\n"
+    "     data file\n"
     "  2  the command line does not parse\n"
     "  3  internal error (report: a test or group stopped on one; the report names it)\n"
     "  4  report: the report was written but no test was analysed (all skipped, or none)\n";
@@ -153,6 +163,8 @@ ParsedCommandLine parse_command_line(const std::vector<std::string>& args) {
       l.pdf = false;
     } else if (a == "--quiet") {
       l.quiet = true;
+    } else if (a == "--write") {
+      l.write = true;
     } else if (a == "--results-only") {
       l.results_only = true;
     } else if (a == "--jobs") {

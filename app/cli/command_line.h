@@ -9,13 +9,14 @@
 namespace chatterlab::app {
 
 struct CommandLine {
-  std::string command;  // report | validate | simulate | synth; empty for --help / --version
+  std::string command;  // report | validate | simulate | synth | init; empty for --help / --version
   std::vector<std::string> positional;
   std::string out;            // --out
   bool pdf = true;            // --no-pdf
   bool results_only = false;  // --results-only
   int jobs = 0;               // --jobs N (0: one thread per hardware thread)
   bool quiet = false;         // --quiet: nothing on stdout; errors still on stderr
+  bool write = false;         // --write (init): write the proposed files
   bool help = false;          // --help / -h: the usage of `command` (or of every command)
   bool version = false;       // --version
 };

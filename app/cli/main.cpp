@@ -9,6 +9,7 @@
 #include "analysis/common/summary.h"
 #include "app/cli/command_line.h"
 #include "app/cli/exit_codes.h"
+#include "app/cli/init.h"
 #include "app/cli/output_folder.h"
 #include "app/cli/validate.h"
 #include "app/core/campaign.h"
@@ -34,6 +35,16 @@ struct ManifestOnExit {
     }
   }
 };
+
+// Whether `out` is the folder `campaign` or one of its parents.
+bool out_holds(const std::filesystem::path& out, const std::filesystem::path& campaign) {
+  std::error_code ec;
+  const auto o = std::filesystem::weakly_canonical(std::filesystem::absolute(out), ec);
+  const auto c = std::filesystem::weakly_canonical(std::filesystem::absolute(campaign), ec);
+  if (ec) return false;
+  const auto r = c.lexically_relative(o);
+  return !r.empty() && *r.begin() != "..";
+}
 
 }  // namespace
 
@@ -70,9 +81,19 @@ int main(int argc, char** argv) {
       auto campaign = chatterlab::app::load_campaign(positional[0]);
       return chatterlab::app::validate_campaign(campaign, std::cout);
     }
+    if (cmd == "init") {
+      if (positional.size() != 1) return usage_error("init takes one folder", cmd);
+      return chatterlab::app::run_init(positional[0], line.write, std::cout);
+    }
     if (cmd == "report") {
       if (positional.size() != 1 || out.empty()) {
         return usage_error("report takes one campaign folder and --out <dir>", cmd);
+      }
+      if (out_holds(out, positional[0])) {
+        throw chatterlab::InputError(
+            "--out " + out +
+            ": is the campaign folder or holds it; the report would remove the campaign's "
+            "files (a synth campaign lists them as chatterlab's): choose another --out");
       }
       // Refused before any work when --out is not ours; the previous run's files go once
       // the campaign was read.
@@ -106,7 +127,12 @@ int main(int argc, char** argv) {
       if (positional.size() != 1 || out.empty()) {
         return usage_error("synth takes one spec file and --out <campaign>", cmd);
       }
-      const auto s = chatterlab::app::synthesize_campaign(positional[0], out);
+      // As report and simulate: a folder that is not chatterlab's is refused before any work;
+      // the earlier run's files go once the spec has been read (a bad spec changes nothing).
+      auto folder = chatterlab::app::OutputFolder::open(out);
+      const ManifestOnExit manifest{folder};
+      const auto s = chatterlab::app::synthesize_campaign(positional[0], out,
+                                                          [&folder] { folder.clear_previous(); });
       for (const auto& w : s.warnings) std::cerr << "chatterlab synth: warning: " << w << "\n";
       log << "synth: wrote campaign '" << s.campaign_name << "' with " << s.tests_written
           << " tests to " << out << "\n";

@@ -126,7 +126,8 @@ void write_truth_yaml(const SynthContext& ctx) {
 }  // namespace
 
 SynthSummary synthesize_campaign(const std::filesystem::path& spec_yaml,
-                                 const std::filesystem::path& out_dir) {
+                                 const std::filesystem::path& out_dir,
+                                 const std::function<void()>& before_writing) {
   const std::string label = spec_yaml.filename().string();
   YAML::Node root;
   try {
@@ -166,6 +167,7 @@ SynthSummary synthesize_campaign(const std::filesystem::path& spec_yaml,
   }
   throw_if_errors(r);
 
+  if (before_writing) before_writing();
   std::filesystem::create_directories(out_dir);
   write_campaign_yaml(root, ctx, summary.campaign_name);
   for (const auto& [kind, section] : sections) {

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -69,8 +70,11 @@ void configure_synth_emitter(YAML::Emitter& e);
 // @throws InputError naming the path when it cannot be written
 void write_synth_yaml(const std::filesystem::path& path, const YAML::Emitter& e);
 
-// Throws InputError naming the spec file and key for a bad spec.
+// Throws InputError naming the spec file and key for a bad spec, before anything is written.
+// `before_writing`, when set, runs once the spec has been read and before the first file is
+// written (the command line clears the earlier run's files there).
 SynthSummary synthesize_campaign(const std::filesystem::path& spec_yaml,
-                                 const std::filesystem::path& out_dir);
+                                 const std::filesystem::path& out_dir,
+                                 const std::function<void()>& before_writing = {});
 
 }  // namespace chatterlab::app
