@@ -19,6 +19,7 @@
 #include "app/cli/validate.h"
 #include "app/core/campaign.h"
 #include "app/formats/matfile.h"
+#include "app/formats/uff58.h"
 #include "tests/app/cli/run_binary.h"
 #include "tests/support/temp_campaign.h"
 
@@ -314,6 +315,124 @@ TEST(Init, MatFileGivesATapTestWithTheRateOfItsTimeVariable) {
   ASSERT_EQ(run_init(lab, true, out), kExitOk);
   std::string listing;
   EXPECT_EQ(validate(lab, &listing), 0) << listing;
+}
+
+// Deflection sensors in mm and a tachometer: a cut test, the sensors scaled to m, the speed from
+// the tachometer, and the cut's own keys and campaign.yaml's tool as TODOs.
+TEST(Init, DeflectionAndTachometerColumnsGiveACutTest) {
+  TempDir d;
+  const fs::path lab = d.path() / "lab";
+  std::string csv = "time,tach (V),defl x (mm),defl y (mm)\n";
+  for (int i = 0; i < 4000; ++i) {  // 10 kHz, 15000 rpm: one revolution every 40 samples
+    char row[160];
+    std::snprintf(row, sizeof(row), "%.9g,%d,%.6f,%.6f\n", i / 10000.0, i % 40 < 4 ? 5 : 0,
+                  0.01 * std::sin(0.3 * i), 0.01 * std::cos(0.3 * i));
+    csv += row;
+  }
+  d.write("lab/cuts/run1.csv", csv);
+  const InitProposal p = propose_campaign(lab);
+  const InitFile* t = file_named(p, "cuts/test.yaml");
+  ASSERT_NE(t, nullptr);
+  const std::string& y = t->content;
+  EXPECT_TRUE(has(y, "kind: cut ")) << y;
+  EXPECT_TRUE(has(y, "sample_rate_hz: 10000 ")) << y;
+  EXPECT_TRUE(has(y, "spindle_rpm: 15000 ")) << y;
+  EXPECT_TRUE(has(y, "  x: {column: \"defl x (mm)\", scale: 0.001}")) << y;
+  EXPECT_TRUE(has(y, "  y: {column: \"defl y (mm)\", scale: 0.001}")) << y;
+  EXPECT_TRUE(
+      has(y, "# recognised as the deflection along x; the header says mm; the test needs m"))
+      << y;
+  EXPECT_TRUE(has(y, "  tach: {column: \"tach (V)\"}")) << y;
+  for (const char* key : {"operation", "feed_per_tooth_mm", "radial_immersion_mm", "axial_depth_mm",
+                          "cut_window_s"}) {
+    EXPECT_TRUE(has(y, std::string("# TODO ") + key + ":")) << key << "\n" << y;
+  }
+  EXPECT_TRUE(has(p.files[0].content, "# TODO tool: {teeth: N, radius_mm: R}: required"));
+
+  std::ostringstream out;
+  ASSERT_EQ(run_init(lab, true, out), kExitOk);
+  std::string listing;
+  EXPECT_EQ(validate(lab, &listing), 1);
+  EXPECT_TRUE(has(listing, "cuts/test.yaml: key 'operation' is missing")) << listing;
+  EXPECT_TRUE(has(listing, "cuts/test.yaml: key 'cut_window_s' is missing")) << listing;
+}
+
+// A UFF file of two FRF records (function type 4) gives a tap test per record, the axis from
+// each record's response direction and the ordinate from its units.
+TEST(Init, UffFrfRecordsGiveATapTestEach) {
+  TempDir d;
+  const fs::path lab = d.path() / "lab";
+  fs::create_directories(lab);
+  std::vector<uff::Function58> records(2);
+  for (int k = 0; k < 2; ++k) {
+    auto& f = records[static_cast<std::size_t>(k)];
+    f.id1 = k == 0 ? "H xx" : "H yy";
+    f.function_type = uff::kFrf;
+    f.response_node = 1;
+    f.response_direction = k + 1;
+    f.reference_node = 1;
+    f.reference_direction = k + 1;
+    f.x_start = 10.0;
+    f.dx = 10.0;
+    f.complex_ordinate = true;
+    f.values = Eigen::VectorXcd::Constant(100, std::complex<double>(1e-3, -2e-3));
+    f.x_label = "Frequency";
+    f.x_unit = "Hz";
+    f.y_label = "Acceleration";
+    f.y_unit = "m/s^2";
+    f.z_label = "Force";
+    f.z_unit = "N";
+  }
+  uff::write_uff58(lab / "frfs.uff", records);
+  const InitProposal p = propose_campaign(lab);
+  EXPECT_EQ(p.tests, 2);
+  const InitFile* a = file_named(p, "frfs-frf1/test.yaml");
+  const InitFile* b = file_named(p, "frfs-frf2/test.yaml");
+  ASSERT_NE(a, nullptr);
+  ASSERT_NE(b, nullptr);
+  EXPECT_TRUE(has(a->content, "axis: x ")) << a->content;
+  EXPECT_TRUE(has(b->content, "axis: y ")) << b->content;
+  EXPECT_TRUE(has(a->content, "response: acceleration ")) << a->content;
+  EXPECT_TRUE(has(a->content, "frf: {file: ../frfs.uff, record: 1}")) << a->content;
+  EXPECT_TRUE(has(b->content, "frf: {file: ../frfs.uff, record: 2}")) << b->content;
+
+  std::ostringstream out;
+  ASSERT_EQ(run_init(lab, true, out), kExitOk);
+  std::string listing;
+  EXPECT_EQ(validate(lab, &listing), 0) << listing;
+}
+
+// A LabVIEW text export: the header block found (skip_lines, tab), the rate from its Delta_X,
+// channels named like the kind's; the response's unit is not stated: a TODO.
+TEST(Init, LabviewExportGivesSkipLinesAndTheRateFromDeltaX) {
+  TempDir d;
+  const fs::path lab = d.path() / "lab";
+  std::string lvm =
+      "LabVIEW Measurement\t\nWriter_Version\t2\nSeparator\tTab\nDelta_X\t3.906250E-5\n"
+      "***End_of_Header***\t\nforce\tresponse\tComment\n";
+  for (int i = 0; i < 200; ++i) {
+    lvm += std::to_string(i % 50 == 0 ? 100.0 : 0.0) + "\t" + std::to_string(std::sin(0.2 * i)) +
+           "\t\n";
+  }
+  d.write("lab/tap/x/hits.lvm", lvm);
+  const InitProposal p = propose_campaign(lab);
+  const InitFile* t = file_named(p, "tap/x/test.yaml");
+  ASSERT_NE(t, nullptr);
+  const std::string& y = t->content;
+  EXPECT_TRUE(has(y, "kind: tap ")) << y;
+  EXPECT_TRUE(has(y, "sample_rate_hz: 25600 ")) << y;
+  EXPECT_TRUE(has(y, "# from the header block's Delta_X 3.90625e-05 s")) << y;
+  EXPECT_TRUE(has(y, "data: {file: hits.lvm, delimiter: tab, skip_lines: 5}")) << y;
+  EXPECT_TRUE(has(y, "# channel force: the column 'force' (named like it)")) << y;
+  EXPECT_TRUE(has(y, "# TODO response: acceleration, velocity or displacement")) << y;
+  EXPECT_FALSE(has(y, "\nchannels:")) << y;
+
+  std::ostringstream out;
+  ASSERT_EQ(run_init(lab, true, out), kExitOk);
+  std::string listing;
+  EXPECT_EQ(validate(lab, &listing), 1);
+  EXPECT_TRUE(has(listing, "tap/x/test.yaml: key 'response' is missing")) << listing;
+  EXPECT_TRUE(has(listing, "1 tests found, 0 usable, 1 unusable")) << listing;
 }
 
 TEST(Init, AFolderWithoutDataOrNotAFolder) {
