@@ -704,7 +704,8 @@ std::string rel(const fs::path& p, const fs::path& root) {
   return r == "." ? "" : r;
 }
 
-// The files named by existing test.yaml files (data.file, frf.file, inspections.file).
+// The files named by existing test.yaml files (data.file, frf.file, inspections.file) and by
+// the campaign's truth.yaml.
 std::set<fs::path> described_files(const fs::path& root, const std::vector<fs::path>& yamls) {
   std::set<fs::path> out;
   for (const auto& y : yamls) {
@@ -720,7 +721,28 @@ std::set<fs::path> described_files(const fs::path& root, const std::vector<fs::p
     } catch (const std::exception&) {
     }
   }
-  (void)root;
+  // truth.yaml names files of known values (a synthetic campaign's trajectories): not tests.
+  std::error_code ec;
+  if (fs::is_regular_file(root / "truth.yaml", ec)) {
+    try {
+      std::vector<YAML::Node> todo = {YAML::LoadFile((root / "truth.yaml").string())};
+      while (!todo.empty()) {
+        const YAML::Node n = todo.back();
+        todo.pop_back();
+        if (n.IsScalar()) {
+          const std::string v = n.Scalar();
+          if (v.size() < 512 && fs::is_regular_file(root / v, ec)) {
+            out.insert((root / v).lexically_normal());
+          }
+        } else if (n.IsSequence()) {
+          for (const auto& e : n) todo.push_back(e);
+        } else if (n.IsMap()) {
+          for (const auto& kv : n) todo.push_back(kv.second);
+        }
+      }
+    } catch (const std::exception&) {
+    }
+  }
   return out;
 }
 
@@ -1118,7 +1140,7 @@ InitProposal propose_campaign(const fs::path& folder_in) {
       ++p.data_files;
       const std::string label = rel(f, root);
       if (described.count(f.lexically_normal()) > 0) {
-        findings.emplace_back(label, "already named by a test.yaml; left as it is");
+        findings.emplace_back(label, "already named by a test.yaml or truth.yaml; left as it is");
         continue;
       }
       std::string why_not;

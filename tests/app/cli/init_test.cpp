@@ -172,10 +172,16 @@ TEST(Init, WriteNeverOverwritesCampaignOrTestYaml) {
 
   // A data file that a test.yaml names is already described: no second test for it.
   d.write("lab/hits-x/test.yaml", "kind: tap\ndata: {file: ../hits-x.csv}\n");
+  // So is a file that truth.yaml names (a synthetic campaign's known values).
+  d.write("lab/traj.csv", "cycle,j\n1,0\n1,1\n");
+  d.write("lab/truth.yaml", "tests:\n  g: {trajectory: {file: traj.csv}}\n");
   const InitProposal again = propose_campaign(lab);
   EXPECT_EQ(again.tests, 0);
-  ASSERT_EQ(again.findings.size(), 1u);
-  EXPECT_EQ(again.findings[0], "hits-x.csv: already named by a test.yaml; left as it is");
+  EXPECT_EQ(again.data_files, 2);
+  EXPECT_EQ(again.findings,
+            (std::vector<std::string>{
+                "hits-x.csv: already named by a test.yaml or truth.yaml; left as it is",
+                "traj.csv: already named by a test.yaml or truth.yaml; left as it is"}));
 }
 
 // The real pyuff samples: a microphone time record (record 1 text "Mic 01.0Scalar": no kind's
