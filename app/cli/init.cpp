@@ -1166,7 +1166,8 @@ InitProposal propose_campaign(const fs::path& folder_in) {
           if (stems[name] > 1) name += "-" + lower(f.extension().string().substr(1));
           name += u.suffix;
           while (taken.count(dir / name) > 0 ||
-                 (fs::exists(dir / name, ec) && !fs::is_directory(dir / name, ec))) {
+                 (fs::exists(fs::symlink_status(dir / name, ec)) &&
+                  !fs::is_directory(fs::symlink_status(dir / name, ec)))) {
             name += "-test";
           }
           test_dir = dir / name;
@@ -1226,6 +1227,14 @@ void write_proposal(InitProposal& proposal) {
     if (f.exists || fs::exists(path, ec)) {
       f.exists = true;
       continue;
+    }
+    // Only inside the folder: a test folder reached through a link that leads out is refused.
+    const fs::path real_root = fs::weakly_canonical(fs::absolute(root), ec);
+    const fs::path real_parent = fs::weakly_canonical(fs::absolute(path.parent_path()), ec);
+    const fs::path inside = real_parent.lexically_relative(real_root);
+    if (ec || inside.empty() || *inside.begin() == "..") {
+      throw InputError(f.path + ": its folder leads out of " + root.string() +
+                       " (a linked folder): not written");
     }
     fs::create_directories(path.parent_path(), ec);
     std::ofstream out(path, std::ios::binary);

@@ -441,6 +441,22 @@ TEST(Init, LabviewExportGivesSkipLinesAndTheRateFromDeltaX) {
   EXPECT_TRUE(has(listing, "1 tests found, 0 usable, 1 unusable")) << listing;
 }
 
+// A name taken by a link to a folder outside: the test folder gets another name, and nothing is
+// written outside the folder.
+TEST(Init, NothingIsWrittenThroughALinkOutOfTheFolder) {
+  TempDir d;
+  const fs::path lab = d.path() / "lab";
+  d.write("lab/hits-x.csv", tap_csv_decimal_comma());
+  fs::create_directories(d.path() / "outside");
+  fs::create_directory_symlink(d.path() / "outside", lab / "hits-x");
+  std::ostringstream out;
+  ASSERT_EQ(run_init(lab, true, out), kExitOk);
+  EXPECT_TRUE(has(out.str(), "init: wrote 2 files: campaign.yaml, hits-x-test/test.yaml"))
+      << out.str();
+  EXPECT_TRUE(fs::is_empty(d.path() / "outside"));
+  EXPECT_TRUE(has(file_text(lab / "hits-x-test/test.yaml"), "data: {file: ../hits-x.csv,"));
+}
+
 TEST(Init, AFolderWithoutDataOrNotAFolder) {
   TempDir d;
   d.write("empty/readme.md", "notes\n");
