@@ -468,7 +468,6 @@ struct FileLook {
   std::vector<std::string> names;  // channel names (text header, UFF id1, .mat variables)
   Rate rate;
   DataSpec data;  // the dialect that reads the file
-  std::string dialect_why;
   std::optional<SignalTable> table;
 };
 
@@ -891,10 +890,7 @@ std::vector<Unit> look_at(const fs::path& file, const fs::path& root, std::strin
                  (named({"mag", "abs", "amp"}) && named({"phase", "ph", "angle", "arg"})))) {
       if (try_frf_text(true)) return units;
     }
-    // Dialect and sample rate.
-    if (look.data.delimiter != 0 && look.data.delimiter != ',') {
-      look.dialect_why = "detected";
-    }
+    // The sample rate: a time column, else a LabVIEW header block.
     for (const auto& c : cols) {
       if (!is_time(c)) continue;
       look.rate = rate_from_time(look.table->channel(c.name), time_unit_factor(c),
@@ -1027,8 +1023,7 @@ std::vector<Unit> look_at(const fs::path& file, const fs::path& root, std::strin
                              : g.kind + " test (" + g.kind_why + ")";
   const Rate rate = look.rate;
   const DataSpec data = look.data;
-  const std::string dialect_why = look.dialect_why;
-  u.render = [g, rate, data, dialect_why](const std::string& ref) {
+  u.render = [g, rate, data](const std::string& ref) {
     YamlText y;
     if (!g.kind.empty()) {
       y.line("kind: " + g.kind, "guessed: " + g.kind_why);
