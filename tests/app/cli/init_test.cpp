@@ -457,6 +457,35 @@ TEST(Init, NothingIsWrittenThroughALinkOutOfTheFolder) {
   EXPECT_TRUE(has(file_text(lab / "hits-x-test/test.yaml"), "data: {file: ../hits-x.csv,"));
 }
 
+// Two files in the campaign root: a grinding record (cycle, power) and a spindle-sensor tap
+// record (hammer and the six washer channels): a test folder each beside them.
+TEST(Init, GrindingAndSifsTapColumns) {
+  TempDir d;
+  const fs::path lab = d.path() / "lab";
+  std::string fast = "cycle,u_mm_s,power,Dw_mm\n";
+  std::string taps = "t,hammer,x1,x2,y1,y2,z1,z2\n";
+  for (int i = 0; i < 40; ++i) {
+    fast += std::to_string(1 + i / 20) + ",0.01,500,0.001\n";
+    taps += std::to_string(i / 12800.0) + ",0,1,2,3,4,5,6\n";
+  }
+  d.write("lab/fast.csv", fast);
+  d.write("lab/tap-x.csv", taps);
+  const InitProposal p = propose_campaign(lab);
+  EXPECT_EQ(p.tests, 2);
+  const InitFile* g = file_named(p, "fast/test.yaml");
+  const InitFile* s = file_named(p, "tap-x/test.yaml");
+  ASSERT_NE(g, nullptr);
+  ASSERT_NE(s, nullptr);
+  EXPECT_TRUE(has(g->content, "kind: grinding ")) << g->content;
+  EXPECT_TRUE(has(g->content, "# TODO sample_rate_hz: the sample rate, Hz (no time column)"))
+      << g->content;
+  EXPECT_TRUE(has(g->content, "# TODO model:")) << g->content;
+  EXPECT_TRUE(has(s->content, "kind: sifs-tap ")) << s->content;
+  EXPECT_TRUE(has(s->content, "axis: x ")) << s->content;
+  EXPECT_TRUE(has(s->content, "# TODO band_hz:")) << s->content;
+  EXPECT_TRUE(has(s->content, "data: {file: ../tap-x.csv}")) << s->content;
+}
+
 TEST(Init, AFolderWithoutDataOrNotAFolder) {
   TempDir d;
   d.write("empty/readme.md", "notes\n");
