@@ -50,8 +50,9 @@ class FigureJobs {
 //   1,H1,100,1.5e-06                                          one row per point, in order
 // `panel` is 1-based from the top; `series` is the legend text ("series <n>", 1-based in its
 // panel, when it has none; quoted when it holds a comma or a quote); every point of the series
-// as the figure model holds it (before any reduction for drawing), 17 significant digits; an
-// empty x or y is NaN or infinite (a break in the line). Throws InputError when it cannot write.
+// as the figure model holds it (before any reduction for drawing), 9 significant digits at
+// most (%.9g: every float exactly, a double to 5e-9 relative); an empty x or y is NaN or
+// infinite (a break in the line). Throws InputError when it cannot write.
 void write_figure_csv(const render::Figure& figure, const std::filesystem::path& file,
                       const std::string& title);
 

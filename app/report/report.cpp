@@ -255,7 +255,7 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
 
   // results.json first: it must exist even if the PDF step fails.
   {
-    json results = results_json(r, truth);
+    json results = results_json(r, truth, figures);
     results["campaign"] = results_campaign_name(c);
     std::ofstream js(out / "results.json");
     js << results.dump(2) << "\n";

@@ -41,7 +41,22 @@ json provenance_json(const CampaignResults& r) {
           {"run_order", levels}};
 }
 
-json results_json(const CampaignResults& r, const TruthComparison& truth) {
+json figure_files_json(const FigureSet& figures, const std::string& owner) {
+  json files = json::object();
+  if (const auto it = figures.stems.find(owner); it != figures.stems.end()) {
+    for (const auto& [key, stem] : it->second) {
+      files[key]["svg"] = stem + ".svg";
+      files[key]["png"] = stem + ".png";
+    }
+  }
+  if (const auto it = figures.data.find(owner); it != figures.data.end()) {
+    for (const auto& [key, csv] : it->second) files[key]["csv"] = csv;
+  }
+  return files;
+}
+
+json results_json(const CampaignResults& r, const TruthComparison& truth,
+                  const FigureSet& figures) {
   json j;
   j["format"] = "chatterlab-results/1";
   j["campaign"] = r.campaign.name;
@@ -62,6 +77,7 @@ json results_json(const CampaignResults& r, const TruthComparison& truth) {
     e["runtime_s"] = t.runtime_s;
     if (t.status.ok()) {
       if (const TestKind* kind = r.kinds->find(t.spec->kind)) e.update(kind->results(t));
+      e["figures"] = figure_files_json(figures, t.spec->id);
     }
     tests[t.spec->id.empty() ? "." : t.spec->id] = e;
   }
@@ -69,7 +85,11 @@ json results_json(const CampaignResults& r, const TruthComparison& truth) {
 
   json groups = json::object();
   for (const auto& g : r.groups) {
-    if (const GroupProduct* p = r.kinds->find_group(g.name)) groups[g.name] = p->results(g);
+    const GroupProduct* p = r.kinds->find_group(g.name);
+    if (p == nullptr) continue;
+    json e = p->results(g);
+    if (g.status.ok()) e["figures"] = figure_files_json(figures, "group:" + g.name);
+    groups[g.name] = e;
   }
   j["groups"] = groups;
   for (const auto& k : r.kinds->kinds()) k->campaign_results(r, j);

@@ -6,11 +6,20 @@
 #include <nlohmann/json.hpp>
 
 #include "app/pipeline/pipeline.h"
+#include "app/report/figure_jobs.h"
 #include "app/report/truth.h"
 
 namespace chatterlab::app {
 
-nlohmann::json results_json(const CampaignResults& r, const TruthComparison& truth);
+// `figures`: what the report drew; each analysed test and group names its files in `figures`.
+nlohmann::json results_json(const CampaignResults& r, const TruthComparison& truth,
+                            const FigureSet& figures);
+
+// The files of `owner`'s figures (test id, or "group:<name>") that were written, keyed by figure
+// key: {"<key>": {"svg": "figures/<stem>.svg", "png": "figures/<stem>.png",
+// "csv": "figures/<stem>.csv"}}, svg and png only when the figure was drawn, csv only when its
+// data was written; {} when it has none (docs/format/results-json.md, "figures").
+nlohmann::json figure_files_json(const FigureSet& figures, const std::string& owner);
 
 // Finite numbers as numbers, NaN and infinities as null (JSON has no NaN).
 nlohmann::json number_or_null(double v);

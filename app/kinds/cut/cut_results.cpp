@@ -126,7 +126,8 @@ json estimation_json(const CutEstimation& e) {
 
 // A cut test (EXPERIMENT_FORMAT.md: offset_angle_deg; bifurcation_depth_mm null when the run
 // shows no bifurcation, absent when its depth does not vary). A step that did not succeed
-// leaves its keys out and says why.
+// leaves its keys out and says why; bifurcation_depth_mm, which the format requires of every
+// ramped cut, is then null beside bifurcation_status "skipped" (as in chatterlab simulate).
 json cut_json(const CutOutcome& c) {
   json j;
   j["measured_rpm"] = number_or_null(c.tach.measured_rpm);
@@ -165,8 +166,12 @@ json cut_json(const CutOutcome& c) {
       }
       j["chatter_islands"] = islands;
     } else {
+      j["bifurcation_depth_mm"] = nullptr;  // not determined: bifurcation_status says why
       j["bifurcation_status"] = "skipped";
-      j["bifurcation_skip_reason"] = c.bifurcation_status.message;
+      j["bifurcation_skip_reason"] =
+          c.bifurcation_status.ran() && !c.bifurcation_status.message.empty()
+              ? c.bifurcation_status.message
+              : std::string("the bifurcation detector did not run");
     }
   }
   json estimators = json::object();

@@ -266,7 +266,6 @@ json SifsTapKind::results(const TestOutcome& out) const {
           {"r_N", r.frf.r_tap_n},
           {"frf_csv", tap_frf_csv_path(out.spec->id)},
           {"frf_uff", tap_frf_uff_path(out.spec->id)},
-          {"figure_data", {{"frf", figure_stem("sifs-tap", out.spec->id) + "frf.csv"}}},
           {"bandwidth_before_hz", r.bandwidth_before_hz},
           {"antiresonances_hz", to_vector(r.antiresonances_hz)}};
 }

@@ -57,10 +57,10 @@ json tap_json(const TapOutcome& t, const std::string& id) {
     j["exp_window_tau_s"] = number_or_null(t.exp_window_tau_s);
   }
   j["frequency_resolution_hz"] = number_or_null(t.df_hz);
-  // Files beside results.json (relative to it): the FRF table and the figure's data.
+  // Files beside results.json (relative to it): the FRF table and file (the figure's files are
+  // in the entry's `figures`, which results_json adds for every test).
   j["frf_csv"] = tap_frf_csv_path(id);
   j["frf_uff"] = tap_frf_uff_path(id);
-  j["figure_data"] = {{"frf", figure_stem("tap", id) + "frf.csv"}};
   if (t.fit_ok) {
     json modes = json::array();
     for (std::size_t i = 0; i < t.modes.size(); ++i) {

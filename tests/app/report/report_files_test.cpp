@@ -1,12 +1,14 @@
 // Data out (issue 15): the files a report writes beside results.json for other tools: every
 // tap FRF as CSV and UFF58, the data behind every figure as CSV, the identified values as CSV,
-// each named in results.json; and the figure CSV holds exactly the series the figure drew.
+// each named in results.json (a test's or group's figures in its `figures`); and the figure CSV
+// holds the series the figure drew, to 9 significant digits.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -18,6 +20,7 @@
 #include "app/pipeline/campaign_values.h"
 #include "app/report/figure_jobs.h"
 #include "app/report/report.h"
+#include "app/report/results_json.h"
 #include "app/synth/synth.h"
 #include "render/temp_dir.h"
 #include "tests/support/synth_spec.h"
@@ -88,6 +91,8 @@ FigureData read_figure_csv(const fs::path& p) {
   return d;
 }
 
+// `b` is `a` as the figure CSV writes it: 9 significant digits (%.9g), so within half a unit of
+// the 9th digit, 5e-9 relative.
 void expect_same(const std::vector<double>& a, const std::vector<double>& b,
                  const std::string& what) {
   ASSERT_EQ(a.size(), b.size()) << what;
@@ -95,9 +100,56 @@ void expect_same(const std::vector<double>& a, const std::vector<double>& b,
     if (std::isnan(a[i])) {
       EXPECT_TRUE(std::isnan(b[i])) << what << " [" << i << "]";
     } else {
-      EXPECT_EQ(a[i], b[i]) << what << " [" << i << "]";
+      EXPECT_LE(std::abs(a[i] - b[i]), 5e-9 * std::abs(a[i])) << what << " [" << i << "]";
     }
   }
+}
+
+// Every figure file of the report folder, relative to it ("figures/x.csv").
+std::set<std::string> figure_files_in(const fs::path& out) {
+  std::set<std::string> files;
+  for (const auto& e : fs::directory_iterator(out / "figures")) {
+    files.insert("figures/" + e.path().filename().string());
+  }
+  return files;
+}
+
+// The figure files results.json names in `figures` of every test and group entry; each must
+// exist and end in the extension its key names, and an entry only holds analysed blocks.
+std::set<std::string> figure_files_named(const json& r, const fs::path& out) {
+  std::set<std::string> named;
+  const auto collect = [&](const std::string& where, const json& entry) {
+    if (entry.value("status", "ok") != "ok") {
+      EXPECT_FALSE(entry.contains("figures")) << where;
+      return;
+    }
+    EXPECT_TRUE(entry.contains("figures")) << where;
+    const json figures = entry.value("figures", json::object());
+    for (const auto& [key, files] : figures.items()) {
+      EXPECT_FALSE(files.empty()) << where << " " << key;
+      for (const auto& [ext, path] : files.items()) {
+        const std::string p = path.get<std::string>();
+        EXPECT_EQ(p.rfind("figures/", 0), 0u) << where << " " << key << ": " << p;
+        EXPECT_EQ(p.substr(p.size() - ext.size() - 1), "." + ext) << where << " " << key;
+        EXPECT_TRUE(fs::is_regular_file(out / p)) << where << " " << key << ": " << p;
+        EXPECT_TRUE(named.insert(p).second) << p << " named twice";
+      }
+    }
+  };
+  for (const auto& [id, t] : r.at("tests").items()) collect("tests." + id, t);
+  for (const auto& [name, g] : r.at("groups").items()) collect("groups." + name, g);
+  return named;
+}
+
+// Every figure file written is named, and every name is a file written.
+void expect_every_figure_file_named(const json& r, const fs::path& out) {
+  const std::set<std::string> written = figure_files_in(out);
+  const std::set<std::string> named = figure_files_named(r, out);
+  for (const auto& f : written) EXPECT_TRUE(named.count(f)) << f << " is written but not named";
+  EXPECT_EQ(named.size(), written.size());
+  std::size_t csv = 0;
+  for (const auto& f : named) csv += f.size() > 4 && f.substr(f.size() - 4) == ".csv";
+  EXPECT_GE(csv, 1u);
 }
 
 TEST(FigureCsv, LongFormatWithLabelsNaNAndQuotedNames) {
@@ -120,9 +172,9 @@ TEST(FigureCsv, LongFormatWithLabelsNaNAndQuotedNames) {
   EXPECT_EQ(lines[1], "# panel 1: x = frequency [Hz] (log), y = |H| [m/N] (log)");
   EXPECT_EQ(lines[2], "# panel 2: x = frequency [Hz], y = coherence [-]");
   EXPECT_EQ(lines[3], "panel,series,x,y");
-  EXPECT_EQ(lines[4], "1,\"H1, averaged\",1,0.10000000000000001");
+  EXPECT_EQ(lines[4], "1,\"H1, averaged\",1,0.1");  // 9 significant digits at most
   EXPECT_EQ(lines[5], "1,\"H1, averaged\",2,");
-  EXPECT_EQ(lines[6], "1,\"H1, averaged\",3,0.33333333333333331");
+  EXPECT_EQ(lines[6], "1,\"H1, averaged\",3,0.333333333");
   EXPECT_EQ(lines[7], "1,series 2,1,2");
   EXPECT_EQ(lines[8], "2,\"coh \"\"x\"\"\",1,0.5");
 }
@@ -185,10 +237,17 @@ TEST(ReportFiles, FrfFigureAndIdentifiedFilesBesideResultsJson) {
     const auto table = frf_text::read_frf_text(out / (id + "/frf.csv"), id);
     EXPECT_EQ(static_cast<std::size_t>(table.f_hz.size()), rows);
     EXPECT_EQ(table.coherence.size(), table.f_hz.size());
-    ASSERT_EQ(t["figure_data"]["frf"],
-              "figures/tap-" + std::string(id == "tap/x" ? "tap-x" : "tap-y") + "-frf.csv");
-    EXPECT_TRUE(fs::exists(out / t["figure_data"]["frf"].get<std::string>()));
+    // The FRF figure and its data, named like every figure in the test's `figures`.
+    const std::string stem =
+        "figures/tap-" + std::string(id == "tap/x" ? "tap-x" : "tap-y") + "-frf";
+    EXPECT_EQ(t["figures"]["frf"],
+              json({{"svg", stem + ".svg"}, {"png", stem + ".png"}, {"csv", stem + ".csv"}}));
+    EXPECT_FALSE(t.contains("figure_data"));
   }
+  // Every test and group names the figure files it has, and nothing else is in figures/.
+  expect_every_figure_file_named(r, out);
+  EXPECT_FALSE(r["groups"]["dyno-slot"]["figures"].empty());
+  EXPECT_FALSE(r["tests"]["cuts/constant"]["figures"].empty());
 
   // Every figure has its data beside it.
   int figures = 0;
@@ -282,7 +341,7 @@ TEST(ReportFiles, SifsTapFrfFiles) {
     // results.json names both files and the figure's data.
     ASSERT_EQ(t["frf_csv"], id + "/frf.csv");
     ASSERT_EQ(t["frf_uff"], id + "/frf.uff");
-    EXPECT_TRUE(fs::exists(out / t["figure_data"]["frf"].get<std::string>()));
+    EXPECT_TRUE(fs::exists(out / t["figures"]["frf"]["csv"].get<std::string>()));
     const auto lines = lines_of(out / id / "frf.csv");
     ASSERT_GE(lines.size(), 10u) << id;
     EXPECT_EQ(lines[2], "f_hz,re,im,coherence,fit_re,fit_im") << id;
@@ -296,6 +355,34 @@ TEST(ReportFiles, SifsTapFrfFiles) {
     EXPECT_EQ(table.f_hz.size(), functions[0].samples());
   }
   EXPECT_GE(taps, 2);
+  expect_every_figure_file_named(r, out);
+}
+
+// A figure that cannot be drawn keeps its data file, and only that file is named; a drawn
+// figure names its SVG, PNG and CSV.
+TEST(ReportFiles, FigureFilesNameOnlyWhatWasWritten) {
+  render::Figure good;
+  good.panels.emplace_back().series.push_back({{1.0, 2.0}, {3.0, 4.0}, "line"});
+  render::Figure bad = good;
+  bad.font_pt = 100;  // refused by the renderer, not by the CSV writer
+  FigureJobs jobs;
+  jobs.add("tap/x", "good", "figures/t-good", good);
+  jobs.add("tap/x", "bad", "figures/t-bad", bad);
+  jobs.add("group:g", "only", "figures/g-only", good);
+  TempDir d;
+  const FigureSet set = jobs.draw(d.path(), 2);
+  ASSERT_EQ(set.errors.size(), 1u);
+  EXPECT_NE(set.errors[0].find("figures/t-bad"), std::string::npos) << set.errors[0];
+  const json t = figure_files_json(set, "tap/x");
+  EXPECT_EQ(t, json({{"good",
+                      {{"svg", "figures/t-good.svg"},
+                       {"png", "figures/t-good.png"},
+                       {"csv", "figures/t-good.csv"}}},
+                     {"bad", {{"csv", "figures/t-bad.csv"}}}}));
+  EXPECT_TRUE(fs::exists(d.path() / "figures/t-bad.csv"));
+  EXPECT_FALSE(fs::exists(d.path() / "figures/t-bad.png"));
+  EXPECT_EQ(figure_files_json(set, "group:g")["only"].size(), 3u);
+  EXPECT_EQ(figure_files_json(set, "tap/y"), json::object());
 }
 
 }  // namespace

@@ -4,9 +4,10 @@
 // the program does not analyse yet, reports it, and the report's results.json must validate with
 // Debian's python3-jsonschema (tests/support/validate_json_schema.py). A second run of the same
 // campaign without its tap tests and with one dyno-slot record covers the skipped branches (offset,
-// identification, group). Then the schema must have teeth: copies of the file with a required key
-// removed, a wrong type, a value outside an enum or a number under a key without a unit must each
-// fail.
+// identification, group). A copy whose ramped cut's bifurcation detector could not run (null
+// depth with its reason) is valid too. Then the schema must have teeth: copies of the file with a
+// required key removed, a wrong type, a value outside an enum, a number under a key without a
+// unit or a figure file outside figures/ must each fail.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -170,6 +171,10 @@ TEST(ResultsSchema, ReportOfASynthCampaignValidatesAndBrokenCopiesFail) {
   EXPECT_FALSE(r["truth_comparison"].empty());
   EXPECT_EQ(tests["cuts/constant"]["estimators"].size(), 6u);
   EXPECT_TRUE(tests["cuts/incline"]["bifurcation_depth_mm"].is_number());
+  EXPECT_EQ(tests["cuts/incline"]["figures"]["bifurcation"]["csv"],
+            "figures/cut-cuts-incline-bifurcation.csv");
+  EXPECT_EQ(r["groups"]["dyno-slot"]["figures"]["force"]["svg"], "figures/dyno-force-vs-feed.svg");
+  EXPECT_FALSE(s["groups"]["dyno-slot"].contains("figures"));
   EXPECT_TRUE(tests["cuts/incline"].contains("simulated_identified"));
   EXPECT_TRUE(tests["cuts/constant"]["estimators"]["ekf-modal-x"].contains("repeatability"));
   EXPECT_EQ(s["groups"]["dyno-slot"]["status"], "skipped");
@@ -182,6 +187,17 @@ TEST(ResultsSchema, ReportOfASynthCampaignValidatesAndBrokenCopiesFail) {
     const char* name;
     const char* pointer;  // where the validator must report it
     std::function<void(json&)> apply;
+  };
+  // A ramped cut whose detector could not run: the depth is null beside the reason (format: the
+  // key is absent only for a constant depth), without the detector's keys.
+  const auto bifurcation_skipped = [](json& j) {
+    json& c = j["tests"]["cuts/incline"];
+    for (const char* k : {"bifurcation_verdict", "bifurcation_noise_floor_m", "chatter_islands"}) {
+      c.erase(k);
+    }
+    c["bifurcation_depth_mm"] = nullptr;
+    c["bifurcation_status"] = "skipped";
+    c["bifurcation_skip_reason"] = "too few revolutions for the bifurcation detector";
   };
   const std::vector<Breakage> breakages = {
       {"required key removed", "at /: 'format' is a required property",
@@ -210,6 +226,21 @@ TEST(ResultsSchema, ReportOfASynthCampaignValidatesAndBrokenCopiesFail) {
        [](json& j) { j["tests"]["dynamometer/x"].erase("skip_reason"); }},
       {"hash that is not one", "at /inputs_sha256/campaign.yaml:",
        [](json& j) { j["inputs_sha256"]["campaign.yaml"] = "abc"; }},
+      {"analysed test without figures", "at /tests/tap~1x: 'figures' is a required property",
+       [](json& j) { j["tests"]["tap/x"].erase("figures"); }},
+      {"figure file outside figures/", "at /tests/tap~1x/figures/frf/csv:",
+       [](json& j) { j["tests"]["tap/x"]["figures"]["frf"]["csv"] = "tap/x/frf.csv"; }},
+      {"bifurcation skipped without the depth key",
+       "at /tests/cuts~1incline: 'bifurcation_depth_mm' is a required property",
+       [&](json& j) {
+         bifurcation_skipped(j);
+         j["tests"]["cuts/incline"].erase("bifurcation_depth_mm");
+       }},
+      {"bifurcation skipped with a depth", "at /tests/cuts~1incline/bifurcation_depth_mm:",
+       [&](json& j) {
+         bifurcation_skipped(j);
+         j["tests"]["cuts/incline"]["bifurcation_depth_mm"] = 2.3;
+       }},
   };
   std::vector<fs::path> files = {results, sparse_results};
   for (std::size_t i = 0; i < breakages.size(); ++i) {
@@ -219,12 +250,21 @@ TEST(ResultsSchema, ReportOfASynthCampaignValidatesAndBrokenCopiesFail) {
     write_json(files.back(), broken);
   }
 
+  const fs::path skipped_copy = d.path() / "bifurcation-skipped.json";
+  {
+    json copy = r;
+    bifurcation_skipped(copy);
+    write_json(skipped_copy, copy);
+  }
+  files.push_back(skipped_copy);
+
   Validation v = validate(files);
   ASSERT_NE(v.exit_status, 3) << v.output;  // python3-jsonschema missing
   ASSERT_NE(v.exit_status, 2) << v.output;  // schema not valid under its draft's meta-schema
   EXPECT_EQ(v.exit_status, 1) << v.output;  // the broken copies
   EXPECT_EQ(v.verdict.at(results.string()), "valid") << v.errors[results.string()];
   EXPECT_EQ(v.verdict.at(sparse_results.string()), "valid") << v.errors[sparse_results.string()];
+  EXPECT_EQ(v.verdict.at(skipped_copy.string()), "valid") << v.errors[skipped_copy.string()];
   for (std::size_t i = 0; i < breakages.size(); ++i) {
     const std::string f = files[i + 2].string();
     EXPECT_EQ(v.verdict.at(f), "invalid") << breakages[i].name;
