@@ -121,16 +121,18 @@ struct Figure {
   double width_in = 6.3;     // 16 cm: the A4 text width of report.css, so that fonts
                              // print at font_pt when the figure fills the text width
   double height_in = 3.6;
-  double font_pt = 9.0;         // tic labels and legend; labels and titles are the same or +1 pt
-  bool share_x = false;         // panels share the x axis: same x range, no x tic labels and
-                                // no x label on any but the bottom panel, small gaps
-  std::size_t max_bins = 2000;  // a line series with more than 4 * max_bins points and
-                                // sorted x is reduced to first/min/max/last per x bin,
-                                // which keeps its drawn envelope (0: never reduce)
-  double raster_dpi = 200.0;    // density images in SVG and PDF outputs, in pixels per inch
-                                // of the figure (PNG outputs, and SVG or PDF written with a
-                                // PNG, use the PNG's dpi); 200: sharp on a 2x screen,
-                                // ~0.1-1 MB embedded per image
+  double font_pt = 9.0;        // tic labels and legend; labels and titles are the same or +1 pt
+  bool share_x = false;        // panels share the x axis: same x range, no x tic labels and
+                               // no x label on any but the bottom panel, small gaps
+  std::size_t max_bins = 500;  // a line series with more than 4 * max_bins points and
+                               // sorted x is reduced to first/min/max/last per x bin,
+                               // which keeps its drawn envelope (0: never reduce); 500
+                               // bins over 6.3 in: ~1 px a bin on screen, ~2 px in print
+                               // at 200 dpi, and small SVGs
+  double raster_dpi = 200.0;   // density images in SVG and PDF outputs, in pixels per inch
+                               // of the figure (PNG outputs, and SVG or PDF written with a
+                               // PNG, use the PNG's dpi); 200: sharp on a 2x screen,
+                               // ~0.1-1 MB embedded per image
 };
 
 // Checks sizes, ranges, colours and heights. Throws RenderError naming the field, its value

@@ -22,12 +22,15 @@ struct CommandSpec {
 const std::vector<CommandSpec>& commands() {
   static const std::vector<CommandSpec> c = {
       {"report",
-       "chatterlab report <campaign> --out <dir> [--no-pdf] [--jobs N] [--quiet]",
+       "chatterlab report <campaign> --out <dir> [--no-pdf] [--single-file] [--jobs N] "
+       "[--quiet]",
        "analyse every test of the campaign; write index.html, report.pdf, results.json",
        {{"--out", true,
          "the report folder: new, empty, or one chatterlab wrote (its previous files are "
          "removed)"},
         {"--no-pdf", false, "write no report.pdf"},
+        {"--single-file", false,
+         "also write report.html: the report in one file, stylesheet and figures inside it"},
         {"--jobs", true, "worker threads (0: one per hardware thread)"},
         {"--quiet", false, "no progress or summary on stdout; errors still on stderr"}}},
       {"validate",
@@ -165,6 +168,8 @@ ParsedCommandLine parse_command_line(const std::vector<std::string>& args) {
       l.quiet = true;
     } else if (a == "--write") {
       l.write = true;
+    } else if (a == "--single-file") {
+      l.single_file = true;
     } else if (a == "--results-only") {
       l.results_only = true;
     } else if (a == "--jobs") {

@@ -14,6 +14,7 @@ struct CommandLine {
   std::string out;            // --out
   bool pdf = true;            // --no-pdf
   bool results_only = false;  // --results-only
+  bool single_file = false;   // --single-file (report): also report.html, self-contained
   int jobs = 0;               // --jobs N (0: one thread per hardware thread)
   bool quiet = false;         // --quiet: nothing on stdout; errors still on stderr
   bool write = false;         // --write (init): write the proposed files

@@ -71,6 +71,7 @@ int main(int argc, char** argv) {
   chatterlab::app::ReportOptions report_options;
   report_options.pdf = line.pdf;
   report_options.jobs = line.jobs;
+  report_options.single_file = line.single_file;
   const bool results_only = line.results_only;
   // --quiet: stdout gets nothing (a stream without a buffer drops what it is given).
   std::ostream quiet_stream(nullptr);

@@ -3,6 +3,7 @@
 #include <ctime>
 #include <fstream>
 
+#include "app/report/html_pages.h"
 #include "render/html_to_pdf.h"
 #include "render/mustache_template.h"
 #include "render/render_error.h"
@@ -29,23 +30,56 @@ std::string utc_timestamp() {
   return buf;
 }
 
+namespace {
+
+void write_text(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream file(path, std::ios::binary);
+  file << text;
+  if (!file) throw render::RenderError("cannot write " + path.string());
+}
+
+}  // namespace
+
+std::string utc_timestamp_iso() {
+  const std::time_t t = std::time(nullptr);
+  char buf[32];
+  std::strftime(buf, sizeof(buf), "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+  return buf;
+}
+
 bool write_documents(const std::string& template_name, const nlohmann::json& ctx,
-                     const std::filesystem::path& out, bool pdf, const std::string& command,
-                     std::ostream& log) {
+                     const std::filesystem::path& out, const DocumentOptions& options,
+                     const std::string& command, std::ostream& log) {
   const auto tdir = templates_dir();
   std::filesystem::copy_file(tdir / "report.css", out / "report.css",
                              std::filesystem::copy_options::overwrite_existing);
-  {
-    std::ofstream html(out / "index.html");
-    html << render::render_template_file(tdir / template_name, ctx);
-  }
-  if (!pdf) return false;
+  const std::string html = render::render_template_file(tdir / template_name, ctx);
+  const std::string screen = screen_page(html, out);
+  write_text(out / "index.html", screen);
+  if (options.single_file) write_text(out / "report.html", single_file_page(screen, out));
+  if (!options.pdf) return false;
+  // The print page lives beside index.html while WeasyPrint reads it, so that its relative
+  // links (figures/, report.css) resolve the same way.
+  const std::filesystem::path print = out / ".print.html";
+  std::error_code ec;
   try {
-    for (const auto& w : render::html_to_pdf(out / "index.html", out / "report.pdf")) {
+    write_text(print, print_page(html));
+    // PDF/A-3b for the archive, carrying the machine-readable results (docs/rendering.md).
+    render::PdfOptions pdf_options;
+    pdf_options.variant = "pdf/a-3b";
+    if (std::filesystem::is_regular_file(out / "results.json", ec)) {
+      render::PdfAttachment results;
+      results.file = out / "results.json";
+      results.description = "chatterlab results, machine-readable (docs/results.schema.json)";
+      pdf_options.attachments.push_back(results);
+    }
+    for (const auto& w : render::html_to_pdf(print, out / "report.pdf", pdf_options)) {
       log << "  weasyprint: " << w << "\n";
     }
+    std::filesystem::remove(print, ec);
     return true;
   } catch (const render::RenderError& e) {
+    std::filesystem::remove(print, ec);
     log << "chatterlab " << command << ": PDF not written: " << e.what() << "\n";
     return false;
   }

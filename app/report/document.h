@@ -16,11 +16,23 @@ std::filesystem::path templates_dir();
 // "2026-11-23 01:57 UTC": when a report was generated.
 std::string utc_timestamp();
 
-// Renders `template_name` (e.g. "report.html") with `ctx` to out/index.html, copies
-// report.css, and with `pdf` writes out/report.pdf through WeasyPrint. Returns whether the PDF
-// was written; a PDF failure and WeasyPrint's warnings go to `log` prefixed by `command`.
+// "2026-11-23T01:57:09Z": the same moment as a W3C date (the PDF's creation date).
+std::string utc_timestamp_iso();
+
+struct DocumentOptions {
+  bool pdf = true;           // write out/report.pdf through WeasyPrint
+  bool single_file = false;  // also write out/report.html: stylesheet and figures inside it
+};
+
+// Renders `template_name` (e.g. "report.html") with `ctx`, copies report.css, and writes the
+// pages of app/report/html_pages.h: out/index.html (the screen page), with options.single_file
+// out/report.html, and with options.pdf out/report.pdf through WeasyPrint from the print page
+// (written beside it as a temporary file and removed): PDF/A-3b with out/results.json, when
+// present, attached (write it first). Returns whether the PDF was written; a
+// PDF failure and WeasyPrint's warnings go to `log` prefixed by `command`. Throws RenderError
+// when the single-file page cannot be made.
 bool write_documents(const std::string& template_name, const nlohmann::json& ctx,
-                     const std::filesystem::path& out, bool pdf, const std::string& command,
-                     std::ostream& log);
+                     const std::filesystem::path& out, const DocumentOptions& options,
+                     const std::string& command, std::ostream& log);
 
 }  // namespace chatterlab::app

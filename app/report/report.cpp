@@ -5,6 +5,7 @@
 #include <chrono>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <thread>
 #include <vector>
@@ -16,6 +17,7 @@
 #include "app/git_commit.h"
 #include "app/report/document.h"
 #include "app/report/figure_jobs.h"
+#include "app/report/html_pages.h"
 #include "app/report/results_json.h"
 #include "app/report/truth.h"
 #include "render/mustache_template.h"
@@ -46,16 +48,54 @@ void flatten_settings(const std::string& prefix, const json& j, json& rows) {
   rows.push_back({{"key", prefix}, {"value", value}});
 }
 
+// Gives every object in `j` whose "id" names one of `ids` the key "anchor" (test_anchor of
+// the id), so that the kinds' templates can mark each test's section with it.
+void add_anchors(json& j, const std::map<std::string, std::string>& ids) {
+  if (j.is_array()) {
+    for (auto& e : j) add_anchors(e, ids);
+    return;
+  }
+  if (!j.is_object()) return;
+  if (const auto it = j.find("id"); it != j.end() && it->is_string()) {
+    if (const auto a = ids.find(it->get<std::string>()); a != ids.end()) j["anchor"] = a->second;
+  }
+  for (auto& [k, v] : j.items()) {
+    if (v.is_structured()) add_anchors(v, ids);
+  }
+}
+
 // The kinds' sections in registry order, each rendered from templates/kinds/<name>.html with
-// the context its kind gives, and the table of contents they add.
-void kind_sections(const CampaignResults& r, const FigureSet& figures, json& ctx,
-                   std::vector<std::string>& warnings) {
-  const auto tdir = templates_dir() / "kinds";
+// the context its kind gives, and the nested table of contents: each section's entries, the
+// first with the tests whose sections carry their anchor as children. Returns the anchors of
+// the tests that have a section, by test id.
+std::map<std::string, std::string> kind_sections(const CampaignResults& r, const FigureSet& figures,
+                                                 json& ctx, std::vector<std::string>& warnings) {
+  const auto tdir = templates_dir();
   json sections = json::array(), toc = json::array();
-  const auto add = [&](const std::string& name, const json& section) {
+  std::map<std::string, std::string> anchored;
+  const auto add = [&](const std::string& name, json section,
+                       const std::vector<const TestOutcome*>& tests) {
     if (section.is_null()) return;
-    sections.push_back({{"html", render::render_template_file(tdir / (name + ".html"), section)}});
-    for (const auto& entry : section.value("toc", json::array())) toc.push_back(entry);
+    std::map<std::string, std::string> ids;
+    for (const TestOutcome* t : tests) ids[t->spec->id] = test_anchor(t->spec->id);
+    add_anchors(section, ids);
+    const std::string html =
+        render::render_template_file(tdir / "kinds" / (name + ".html"), section);
+    sections.push_back({{"html", html}});
+    json children = json::array();
+    for (const TestOutcome* t : tests) {
+      const std::string& anchor = ids[t->spec->id];
+      if (html.find("id=\"" + anchor + "\"") == std::string::npos) continue;
+      children.push_back({{"anchor", anchor}, {"title", t->spec->id.empty() ? "." : t->spec->id}});
+      anchored[t->spec->id] = anchor;
+    }
+    bool first = true;
+    for (json entry : section.value("toc", json::array())) {
+      entry["children"] = first ? children : json::array();
+      entry["has_children"] = first && !children.empty();
+      toc.push_back(entry);
+      first = false;
+    }
   };
   for (const auto& entry : r.kinds->in_order()) {
     if (entry.kind) {
@@ -72,16 +112,17 @@ void kind_sections(const CampaignResults& r, const FigureSet& figures, json& ctx
           }
         }
       }
-      add(entry.kind->name(), section);
+      add(entry.kind->name(), section, ok);
     } else if (const GroupOutcome* g = r.group(entry.group->name())) {
       for (const auto& w : g->status.warnings) {
         warnings.push_back(g->name + " group: " + w);
       }
-      add(entry.group->name(), entry.group->report_section(r, *g, figures));
+      add(entry.group->name(), entry.group->report_section(r, *g, figures), {});
     }
   }
   ctx["sections"] = sections;
   ctx["toc"] = toc;
+  return anchored;
 }
 
 FigureSet draw_figures(const CampaignResults& r, const std::filesystem::path& out, int jobs) {
@@ -96,6 +137,16 @@ FigureSet draw_figures(const CampaignResults& r, const std::filesystem::path& ou
   return work.draw(out, jobs);
 }
 
+// The campaign folder's own name ("demo" for /any/where/demo/): the report shows no path of
+// the machine it ran on.
+std::string campaign_folder_name(const CampaignSpec& c) {
+  std::error_code ec;
+  std::filesystem::path root =
+      std::filesystem::weakly_canonical(std::filesystem::absolute(c.root, ec), ec);
+  if (root.filename().empty()) root = root.parent_path();
+  return root.filename().string();
+}
+
 // results.json `campaign` matches [A-Za-z0-9._-]+ (docs/results.schema.json): campaign.yaml
 // `name` when it is set and valid, else the campaign folder's name with every other character
 // as '-' ("campaign" when nothing is left).
@@ -104,11 +155,7 @@ std::string results_campaign_name(const CampaignSpec& c) {
     return std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '_' || ch == '-';
   };
   if (!c.name.empty() && std::all_of(c.name.begin(), c.name.end(), valid_char)) return c.name;
-  std::error_code ec;
-  std::filesystem::path root =
-      std::filesystem::weakly_canonical(std::filesystem::absolute(c.root, ec), ec);
-  if (root.filename().empty()) root = root.parent_path();
-  std::string name = root.filename().string();
+  std::string name = campaign_folder_name(c);
   for (char& ch : name) {
     if (!valid_char(ch)) ch = '-';
   }
@@ -170,15 +217,16 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
                      {"description", c.description},
                      {"workpiece", c.workpiece},
                      {"machine", c.machine},
-                     {"root", c.root.string()}};
+                     {"folder", campaign_folder_name(c)}};
   if (c.tool) {
     json tool = {{"teeth", c.tool->teeth}, {"radius_mm", fmt_sig(c.tool->radius_m * 1e3, 4)}};
     if (c.tool->helix_deg) tool["helix_deg"] = fmt_sig(*c.tool->helix_deg, 3);
     ctx["campaign"]["tool"] = tool;
   }
   ctx["generated_utc"] = utc_timestamp();
+  ctx["generated_iso"] = utc_timestamp_iso();
   ctx["version"] = CHATTERLAB_VERSION;
-  json tests = json::array(), skipped = json::array(), internal = json::array();
+  json skipped = json::array(), internal = json::array();
   std::vector<std::string> warnings = c.errors;
   warnings.insert(warnings.end(), c.warnings.begin(), c.warnings.end());
   for (const auto& [block, errors] : c.block_errors) {
@@ -188,10 +236,14 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
   warnings.insert(warnings.end(), figures.errors.begin(), figures.errors.end());
   warnings.insert(warnings.end(), file_errors.begin(), file_errors.end());
   int ok = 0;
+  const std::map<std::string, std::string> anchors = kind_sections(r, figures, ctx, warnings);
+  json tests = json::array();
   for (const auto& t : r.tests) {
     const std::string id = t.spec->id.empty() ? "." : t.spec->id;
     const TestKind* kind = r.kinds->find(t.spec->kind);
+    const auto anchor = anchors.find(t.spec->id);
     tests.push_back({{"id", id},
+                     {"anchor", anchor != anchors.end() ? json(anchor->second) : json()},
                      {"kind", t.spec->kind.empty() ? "?" : t.spec->kind},
                      {"status", status_word(t.status, t.failure)},
                      {"note", t.status.ok() && kind ? kind->note(t) : std::string()}});
@@ -207,7 +259,6 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
       internal.push_back({{"id", "group " + g.name}, {"reason", g.status.message}});
     }
   }
-  kind_sections(r, figures, ctx, warnings);
   ctx["tests"] = tests;
   ctx["skipped"] = skipped;
   ctx["summary"] = {{"tests_found", r.tests.size()},
@@ -231,6 +282,7 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
     ctx["toc"].push_back({{"anchor", "truth"}, {"title", "Comparison with known values"}});
   }
   ctx["toc"].push_back({{"anchor", "provenance"}, {"title", "Provenance"}});
+  ctx["toc"].push_back({{"anchor", "references"}, {"title", "References"}});
   json inputs = json::array();
   for (const auto& f : r.inputs) {
     inputs.push_back({{"file", f.relative_path}, {"bytes", f.bytes}, {"sha256", f.sha256}});
@@ -261,7 +313,8 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
     js << results.dump(2) << "\n";
   }
   if (options.progress && options.pdf) log << "report: writing report.pdf" << std::endl;
-  const bool pdf_written = write_documents("report.html", ctx, out, options.pdf, "report", err);
+  const bool pdf_written = write_documents(
+      "report.html", ctx, out, DocumentOptions{options.pdf, options.single_file}, "report", err);
   const int internal_errors = r.internal_errors();
   int rc = options.pdf && !pdf_written ? kExitInputError : kExitOk;
   if (ok == 0) rc = kExitNothingAnalysed;

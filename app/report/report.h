@@ -11,8 +11,9 @@
 namespace chatterlab::app {
 
 struct ReportOptions {
-  bool pdf = true;  // also write report.pdf through WeasyPrint
-  int jobs = 0;     // worker threads for tests and figures; 0: one per hardware thread
+  bool pdf = true;           // also write report.pdf through WeasyPrint
+  bool single_file = false;  // also write report.html, one self-contained file
+  int jobs = 0;              // worker threads for tests and figures; 0: one per hardware thread
   // A line on `log` as each test or group finishes ("[3/10] cuts/a ok 4.1 s, 12 s elapsed,
   // ~28 s left"), flushed; the estimate of the time left once the run is estimate_after_s old.
   bool progress = false;

@@ -270,6 +270,7 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
   json ctx;
   ctx["name"] = spec_file.stem().string();
   ctx["generated_utc"] = utc_timestamp();
+  ctx["generated_iso"] = utc_timestamp_iso();
   ctx["version"] = CHATTERLAB_VERSION;
   ctx["spec_file"] = spec_file.string();
   ctx["spec_sha256"] = results["spec_sha256"];
@@ -354,8 +355,8 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
   ctx["fig_overlay"] = "figures/overlay";
   ctx["overlay_points"] = std::to_string(sim.trace.x_m.size());
 
-  const bool pdf_written =
-      write_documents("simulation.html", ctx, out, options.pdf, "simulate", log);
+  const bool pdf_written = write_documents("simulation.html", ctx, out,
+                                           DocumentOptions{options.pdf, false}, "simulate", log);
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   log << "simulate: " << sim.revolutions << " revolutions, " << sim.steps << " steps in "
       << fmt_sig(sim.runtime_s, 3) << " s; bifurcation depth " << bif_text << "; wrote "

@@ -158,13 +158,36 @@ render::Figure estimator_error_figure(const VariantOutcome& v,
                             fmt_sig(est.value, 4) + " (no reference)";
     a.y_label = has_ref ? "error [%]" : "difference [%]";
     a.legend = first ? render::LegendPosition::kAbove : render::LegendPosition::kNone;
-    // Repeatability runs first (drawn behind), light; labelled once.
+    // Repeatability runs first (drawn behind), light; labelled once. Runs on one time grid
+    // are drawn as their envelope, the lowest and the highest value of any run at each time
+    // (two lines instead of one per run: the figure stays small on screen); otherwise each
+    // run is drawn.
+    std::vector<render::Series> runs;
     for (const auto& rr : v.repeat.runs) {
       const Eigen::Index rc = history_column(rr.history, est.key);
       if (!rr.summary.ok() || rc < 0) continue;
-      render::Series s = percent_series(rr.history, rc, r0);
+      runs.push_back(percent_series(rr.history, rc, r0));
+    }
+    const bool one_grid =
+        runs.size() > 2 && std::all_of(runs.begin(), runs.end(), [&](const render::Series& s) {
+          return s.x == runs.front().x;
+        });
+    if (one_grid) {
+      render::Series lo = runs.front(), hi = runs.front();
+      for (const auto& s : runs) {
+        for (std::size_t i = 0; i < s.y.size(); ++i) {
+          lo.y[i] = std::min(lo.y[i], s.y[i]);
+          hi.y[i] = std::max(hi.y[i], s.y[i]);
+        }
+      }
+      runs = {std::move(lo), std::move(hi)};
+    }
+    for (auto& s : runs) {
       s.color = "#A9CCE3";
-      if (first && a.series.empty()) s.label = std::to_string(seeded) + " seeded starts";
+      if (first && a.series.empty()) {
+        s.label = one_grid ? "range of " + std::to_string(seeded) + " seeded starts"
+                           : std::to_string(seeded) + " seeded starts";
+      }
       a.series.push_back(std::move(s));
     }
     render::Series main = percent_series(run.history, col, r0);

@@ -229,6 +229,8 @@ json cut_context(const CampaignResults& r, const TestOutcome& t, const FigureSet
                                  {"start", v.start},
                                  {"seeded", v.repeat.summary.ok()}});
     }
+    est["variant_figures_count"] = variant_figures.size();
+    est["has_variant_figures"] = !variant_figures.empty();
     est["variant_figures"] = variant_figures;
     if (c.ramped) est["bifurcation"] = bifurcation_comparison(c);
     const std::string chip = fig("chip");

@@ -16,6 +16,7 @@
 #include "app/report/report.h"
 #include "app/simulate/simulate.h"
 #include "app/synth/synth.h"
+#include "render/subprocess.h"
 #include "tests/support/temp_campaign.h"
 
 namespace chatterlab::app {
@@ -179,7 +180,22 @@ TEST(ReportEndToEnd, DemoCampaignRecoversTruth) {
   const std::string html = read_text(out / "index.html");
   EXPECT_NE(html.find("Cutting-force coefficients"), std::string::npos);
   EXPECT_NE(html.find("figures/tap-tap-x-frf.svg"), std::string::npos);
-  EXPECT_NE(html.find("figures/tap-tap-x-frf.png"), std::string::npos);
+  // The screen page loads only the SVGs (the PNGs are print's), lazily; each test and figure
+  // has an anchor, which the nested contents and the summary table link to.
+  EXPECT_EQ(html.find("figures/tap-tap-x-frf.png"), std::string::npos);
+  EXPECT_NE(
+      html.find("<img loading=\"lazy\" class=\"screen-only\" src=\"figures/tap-tap-x-frf.svg\""),
+      std::string::npos);
+  EXPECT_NE(html.find("<figure class=\"fig\" id=\"fig-tap-tap-x-frf\">"), std::string::npos);
+  EXPECT_NE(html.find("<section class=\"test\" id=\"test-tap-x\">"), std::string::npos);
+  EXPECT_NE(html.find("<li><a href=\"#test-tap-x\">tap/x</a></li>"), std::string::npos);
+  EXPECT_NE(html.find("<a href=\"#test-tap-x\">tap/x</a></td>"), std::string::npos);
+  EXPECT_NE(html.find("<section id=\"references\">"), std::string::npos);
+  // No path of the machine: the campaign folder appears by its name only.
+  const std::string root = std::filesystem::absolute(campaign).string();
+  EXPECT_EQ(html.find(root), std::string::npos);
+  EXPECT_EQ(read_text(out / "results.json").find(root), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(out / ".print.html"));
   EXPECT_TRUE(std::filesystem::exists(out / "figures/tap-tap-x-frf.png"));
   EXPECT_TRUE(std::filesystem::exists(out / "figures/tap-tap-x-frf.svg"));
   EXPECT_TRUE(std::filesystem::exists(out / "figures/dyno-force-vs-feed.svg"));
@@ -352,6 +368,19 @@ TEST(ReportEndToEnd, RealImpactCampaignWithPdf) {
   EXPECT_EQ(resolution_lines, 1);
   EXPECT_GT(std::filesystem::file_size(d.path() / "report.pdf"), 20000u);
   EXPECT_EQ(r["inputs_sha256"]["tap/x/hits.csv"].get<std::string>().size(), 64u);
+  // The PDF is PDF/A-3b and carries results.json byte for byte (its checks in full:
+  // tests/render/html_to_pdf_pdfa_test.cpp); the print page it came from is gone.
+  const auto pdf = (d.path() / "report.pdf").string();
+  const auto meta = render::run_process({"pdfinfo", "-meta", pdf});
+  EXPECT_NE(meta.out.find("<pdfaid:part>3</pdfaid:part>"), std::string::npos) << meta.out;
+  const auto attached = d.path() / "attached.json";
+  const auto saved = render::run_process({"pdfdetach", "-save", "1", "-o", attached.string(), pdf});
+  ASSERT_EQ(saved.exit_code, 0) << saved.err;
+  EXPECT_EQ(read_text(attached), read_text(d.path() / "results.json"));
+  EXPECT_FALSE(std::filesystem::exists(d.path() / ".print.html"));
+  // Nothing of the machine's paths in the PDF's text either.
+  const auto text = render::run_process({"pdftotext", pdf, "-"});
+  EXPECT_EQ(text.out.find(std::filesystem::absolute(campaign).string()), std::string::npos);
 }
 
 TEST(ReportEndToEnd, MissingCampaignFolderFails) {
