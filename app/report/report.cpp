@@ -117,7 +117,13 @@ std::map<std::string, std::string> kind_sections(const CampaignResults& r, const
       for (const auto& w : g->status.warnings) {
         warnings.push_back(g->name + " group: " + w);
       }
-      add(entry.group->name(), entry.group->report_section(r, *g, figures), {});
+      // A group's section may show tests of its own (the dynamometer slot cuts' table):
+      // those not shown elsewhere can take their anchor there.
+      std::vector<const TestOutcome*> rest;
+      for (const auto& t : r.tests) {
+        if (t.status.ok() && anchored.count(t.spec->id) == 0) rest.push_back(&t);
+      }
+      add(entry.group->name(), entry.group->report_section(r, *g, figures), rest);
     }
   }
   ctx["sections"] = sections;

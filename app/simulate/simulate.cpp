@@ -272,7 +272,7 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
   ctx["generated_utc"] = utc_timestamp();
   ctx["generated_iso"] = utc_timestamp_iso();
   ctx["version"] = CHATTERLAB_VERSION;
-  ctx["spec_file"] = spec_file.string();
+  ctx["spec_file"] = spec_file.filename().string();  // its name only: no path of the machine
   ctx["spec_sha256"] = results["spec_sha256"];
   ctx["tool"] =
       std::to_string(spec.teeth) + " teeth, radius " + fmt_sig(spec.radius_m * kMToMm, 4) + " mm";

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -48,7 +49,13 @@ TEST(SimulateEndToEnd, InclineOneOfTheSourceTable) {
     EXPECT_TRUE(std::filesystem::exists(d.path() / "figures" / (std::string(f) + ".svg"))) << f;
     EXPECT_TRUE(std::filesystem::exists(d.path() / "figures" / (std::string(f) + ".png"))) << f;
   }
-  EXPECT_TRUE(std::filesystem::exists(d.path() / "index.html"));
+  // The screen page shows the SVGs only, and the spec by its name, not its path.
+  std::ifstream in(d.path() / "index.html");
+  const std::string html((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(html.find("figures/bifurcation.svg"), std::string::npos);
+  EXPECT_EQ(html.find("figures/bifurcation.png"), std::string::npos);
+  EXPECT_NE(html.find("incline1-traditional.yaml"), std::string::npos);
+  EXPECT_EQ(html.find(std::filesystem::path(spec).parent_path().string()), std::string::npos);
 }
 
 // A constant 0.5 mm cut of the given length (000 table 5.2's tool, the dynamometer's Ktc, Krc).
