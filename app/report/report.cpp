@@ -19,6 +19,7 @@
 #include "app/report/figure_jobs.h"
 #include "app/report/html_pages.h"
 #include "app/report/results_json.h"
+#include "app/report/results_table.h"
 #include "app/report/truth.h"
 #include "render/mustache_template.h"
 
@@ -315,8 +316,11 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
   {
     json results = results_json(r, truth, figures);
     results["campaign"] = results_campaign_name(c);
+    results["results_csv"] = "results.csv";
     std::ofstream js(out / "results.json");
     js << results.dump(2) << "\n";
+    std::ofstream csv(out / "results.csv");
+    csv << results_table_csv(results);
   }
   if (options.progress && options.pdf) log << "report: writing report.pdf" << std::endl;
   const bool pdf_written = write_documents(

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -196,6 +197,13 @@ TEST(ReportEndToEnd, DemoCampaignRecoversTruth) {
   EXPECT_EQ(html.find(root), std::string::npos);
   EXPECT_EQ(read_text(out / "results.json").find(root), std::string::npos);
   EXPECT_FALSE(std::filesystem::exists(out / ".print.html"));
+  // results.csv: results.json's values as rows, the first mode's frequency among them.
+  EXPECT_EQ(r["results_csv"], "results.csv");
+  const std::string table = read_text(out / "results.csv");
+  char row[96];
+  std::snprintf(row, sizeof(row), "\ntap/x,modes.0.fn_hz,%.10g\n",
+                r["tests"]["tap/x"]["modes"][0]["fn_hz"].get<double>());
+  EXPECT_NE(table.find(row), std::string::npos) << row;
   EXPECT_TRUE(std::filesystem::exists(out / "figures/tap-tap-x-frf.png"));
   EXPECT_TRUE(std::filesystem::exists(out / "figures/tap-tap-x-frf.svg"));
   EXPECT_TRUE(std::filesystem::exists(out / "figures/dyno-force-vs-feed.svg"));
