@@ -847,6 +847,18 @@ std::vector<Unit> look_at(const fs::path& file, const fs::path& root, std::strin
         "(data.channels, sample_rate_hz)";
     return units;
   }
+  // Opens the file as a signal table into `look` (its channel names too); false, with the
+  // reason in why_not, when it cannot be read.
+  const auto open_table = [&]() {
+    try {
+      look.table = SignalTable::open(look.data, label);
+    } catch (const InputError& e) {
+      why_not = "not read: " + short_error(e.what(), label);
+      return false;
+    }
+    look.names = look.table->names();
+    return true;
+  };
   if (is_text_frf_only(file)) {
     if (!try_frf_text(false))
       why_not = "not read as an FRF table (" + ext + " is read only as an FRF)";
@@ -951,13 +963,7 @@ std::vector<Unit> look_at(const fs::path& file, const fs::path& root, std::strin
                 (held.empty() ? std::string() : " (it holds " + held + ")");
       return units;
     }
-    try {
-      look.table = SignalTable::open(look.data, label);
-    } catch (const InputError& e) {
-      why_not = "not read: " + short_error(e.what(), label);
-      return units;
-    }
-    look.names = look.table->names();
+    if (!open_table()) return units;
     const double hz = look.table->file_sample_rate_hz();
     if (hz > 0) {
       look.rate.hz = std::abs(hz - std::round(hz)) < 1e-5 * hz ? std::round(hz) : hz;
@@ -973,13 +979,7 @@ std::vector<Unit> look_at(const fs::path& file, const fs::path& root, std::strin
     }
     if (dirs.size() == 1) uff_axis = *dirs.begin() == 1 ? "x" : "y";
   } else if (ext == ".mat") {
-    try {
-      look.table = SignalTable::open(look.data, label);
-    } catch (const InputError& e) {
-      why_not = "not read: " + short_error(e.what(), label);
-      return units;
-    }
-    look.names = look.table->names();
+    if (!open_table()) return units;
     try {
       for (const auto& v : mat::numeric_variables(file)) {
         const std::string n = lower(v.name);
