@@ -232,7 +232,9 @@ FrfTable read_frf_text(const std::filesystem::path& file, const std::string& lab
                      "imaginary)" +
                      stated);
   }
-  const auto [delim, decimal] = dialect;
+  // Plain variables, not a structured binding: lambdas below capture them (C++17, clang).
+  const char delim = dialect.first;
+  const char decimal = dialect.second;
   const std::size_t width = split(trim(lines[first]), delim).size();
 
   FrfTable out;
