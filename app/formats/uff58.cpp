@@ -131,7 +131,9 @@ void read_axis(const Block& b, Text line, int record, std::string& label, std::s
 // order (fields may touch, "-1.2E-03-4.5E-03", as fixed-width E formats allow).
 std::vector<double> text_values(const Block& b, Text text, std::size_t& pos, std::size_t expected) {
   std::vector<double> v;
-  v.reserve(expected);
+  // Every value takes at least one character: a count record 7 states beyond the file is not
+  // allocated (a 4 kB file claiming 10^9 points would reserve 8 GB).
+  v.reserve(std::min(expected, text.size() - std::min(pos, text.size())));
   Text line;
   int line_no = 12;
   while (true) {
@@ -263,6 +265,12 @@ Function58 read_block(const Block& b, Text text, std::size_t& pos, Text header) 
            "abscissa spacing " + std::to_string(spacing) + ": must be 1 (even) or 0 (uneven)");
   }
   if (n <= 0) b.fail("record 7", "number of points " + std::to_string(n) + ": must be > 0");
+  // Every point takes at least one byte of the file: a larger count cannot be read, and its
+  // product with the values per point and their size could overflow.
+  if (static_cast<unsigned long>(n) > text.size()) {
+    b.fail("record 7", "number of points " + std::to_string(n) + ": more than the file's " +
+                           std::to_string(text.size()) + " bytes can hold");
+  }
   const bool even = spacing == 1;
   if (even && !(dx > 0)) {
     b.fail("record 7", "abscissa increment " + trimmed(field(r7, 43, 13)) +
