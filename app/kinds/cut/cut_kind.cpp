@@ -35,16 +35,29 @@ std::shared_ptr<const KindSpec> CutKind::parse(const YAML::Node& root, YamlReade
   } else if (!root["axial_depth_mm"]) {
     r.error("axial_depth_mm", "is missing");
   }
-  if (auto w = r.optional_pair(root, "cut_window_s")) {
+  // The windows: finite, end > start here; inside the record in check_record, which `validate`
+  // and `report` both run (pipeline check_signals).
+  const auto window = [&](const char* key) -> std::optional<std::pair<double, double>> {
+    const auto w = r.optional_pair(root, key);
+    if (!w) return std::nullopt;
+    if (!std::isfinite(w->first) || !std::isfinite(w->second)) {
+      r.error(key, "must be two finite numbers [start, end], got [" + window_text(w->first) + ", " +
+                       window_text(w->second) + "]");
+    } else if (!(w->second > w->first)) {
+      r.error(key, "must be [start, end] with end > start, got [" + window_text(w->first) + ", " +
+                       window_text(w->second) + "]");
+    }
+    return w;
+  };
+  if (auto w = window("cut_window_s")) {
     s.cut_window_s = *w;
-    if (!(w->second > w->first)) r.error("cut_window_s", "must be [start, end] with end > start");
   } else if (!root["cut_window_s"]) {
     r.error("cut_window_s", "is missing");
   }
-  s.air_window_s = r.optional_pair(root, "air_window_s");
+  s.air_window_s = window("air_window_s");
   s.sensor_to_tip = r.optional_double(root, "sensor_to_tip").value_or(1.0);
   if (!(s.sensor_to_tip > 0)) r.error("sensor_to_tip", "must be > 0");
-  s.estimation_window_s = r.optional_pair(root, "estimation_window_s");
+  s.estimation_window_s = window("estimation_window_s");
   if (s.estimation_window_s) {
     const auto& [a, b] = *s.estimation_window_s;
     if (!(b > a) || a < s.cut_window_s.first || b > s.cut_window_s.second) {
@@ -121,13 +134,7 @@ std::vector<std::string> CutKind::check_campaign(const CampaignSpec& c, const Te
 }
 
 std::vector<std::string> CutKind::check_record(const TestSpec& t, double duration_s) const {
-  const CutSpec& cut = t.kind_spec<CutSpec>();
-  if (cut.cut_window_s.second > duration_s * 1.0001) {
-    return {t.yaml_label + ": key 'cut_window_s' ends at " +
-            std::to_string(cut.cut_window_s.second) + " s, after the record (" +
-            std::to_string(duration_s) + " s)"};
-  }
-  return {};
+  return cut_window_errors(t, duration_s);
 }
 
 // Optional needs: without them the tachometer, runout and deflection steps still run and the

@@ -1,6 +1,7 @@
 #include "app/kinds/cut/cut_step.h"
 
 #include <cmath>
+#include <cstdio>
 
 #include "analysis/common/cutting_coefficients.h"
 #include "analysis/dynamics/noise_level.h"
@@ -101,10 +102,49 @@ void run_measured_bifurcation(const TestSpec& t, const sync::TipDeflection& tip,
 
 }  // namespace
 
+std::string window_text(double s) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%g", s);
+  return buf;
+}
+
+std::vector<std::string> cut_window_errors(const TestSpec& t, double duration_s) {
+  const CutSpec& cut = t.kind_spec<CutSpec>();
+  const std::string record = "the record (0 .. " + window_text(duration_s) + " s)";
+  std::vector<std::string> e;
+  const auto check = [&](const char* key, const std::pair<double, double>& w) {
+    const std::string at = t.yaml_label + ": key '" + std::string(key) + "' ";
+    if (!std::isfinite(w.first) || !std::isfinite(w.second) || !(w.second > w.first)) {
+      e.push_back(at + "must be two finite numbers [start, end] with end > start, got [" +
+                  window_text(w.first) + ", " + window_text(w.second) + "]");
+    } else if (w.first < 0) {
+      e.push_back(at + "starts at " + window_text(w.first) + " s, before " + record);
+    } else if (w.first >= duration_s) {
+      e.push_back(at + "starts at " + window_text(w.first) + " s, after " + record);
+    } else if (w.second > duration_s * 1.0001) {  // the last sample's period: 0.01 %
+      e.push_back(at + "ends at " + window_text(w.second) + " s, after " + record);
+    }
+  };
+  check("cut_window_s", cut.cut_window_s);
+  if (cut.air_window_s) check("air_window_s", *cut.air_window_s);
+  if (cut.estimation_window_s) check("estimation_window_s", *cut.estimation_window_s);
+  return e;
+}
+
 CutOutcome run_cut_test(const TestSpec& t, const CutStepInputs& in, const CutStepOptions& options) {
   CutOutcome out;
   const std::string label = (t.id.empty() ? "" : t.id + "/") + t.data.relative_file;
   const SignalTable table = SignalTable::open(t.data, label);
+  // Normally found before the run (CutKind::check_record); checked again here because every
+  // step below indexes the record with these windows.
+  const std::vector<std::string> window_errors =
+      cut_window_errors(t, static_cast<double>(table.samples()) / t.sample_rate_hz);
+  if (!window_errors.empty()) {
+    std::string why;
+    for (const auto& e : window_errors) why += (why.empty() ? "" : "; ") + e;
+    out.summary.fail(why);
+    return out;
+  }
   const Eigen::VectorXd x = table.channel("x", t.channel("x"));  // metres at the sensor
   const Eigen::VectorXd y = table.channel("y", t.channel("y"));
   const ChannelSpec tach_cal = t.channel("tach");

@@ -66,6 +66,16 @@ struct CutStepOptions {
   int jobs = 1;                                // threads for the estimator variants
 };
 
+// The problems of a cut test's windows (cut_window_s, air_window_s, estimation_window_s) against
+// a record of duration_s seconds, one message each naming the file and key: a window must lie
+// in 0 .. duration_s and end after it starts. Empty: every window is inside the record. The
+// kind's check_record (which `validate` and `report` both run) and run_cut_test use it.
+std::vector<std::string> cut_window_errors(const TestSpec& t, double duration_s);
+
+// A window bound as the messages print it: %g (-0.5, 7.5, -1e+06, nan, inf).
+std::string window_text(double s);
+
+// A test whose windows are not inside its record fails with cut_window_errors' messages.
 CutOutcome run_cut_test(const TestSpec& t, const CutStepInputs& inputs,
                         const CutStepOptions& options = {});
 
