@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <set>
 
+#include "app/core/input_boundary.h"
 #include "app/core/signals.h"
 #include "app/core/yaml_reader.h"
 #include "app/pipeline/registry.h"
@@ -149,6 +150,7 @@ TestSpec load_test(const fs::path& campaign_root, const fs::path& test_yaml,
                    const KindRegistry& kinds) {
   TestSpec t;
   t.folder = test_yaml.parent_path();
+  t.campaign_root = campaign_root;
   t.id = fs::relative(t.folder, campaign_root).generic_string();
   if (t.id == ".") t.id = "";
   t.yaml_label = (t.id.empty() ? "" : t.id + "/") + "test.yaml";
@@ -177,22 +179,25 @@ TestSpec load_test(const fs::path& campaign_root, const fs::path& test_yaml,
   } else {
     r.check_keys(data, {"file", "channels", "delimiter", "decimal", "skip_lines"}, "data");
     t.data.relative_file = r.required_string(data, "file", "data");
-    if (!t.data.relative_file.empty()) t.data.file = t.folder / t.data.relative_file;
     t.data.channels = r.string_list(data, "channels", false, "data");
-    const auto ext = t.data.file.extension().string();
+    const auto ext = fs::path(t.data.relative_file).extension().string();
     const bool raw = ext == ".f32" || ext == ".f64";
     read_dialect(data, r, t.data, !raw);
     t.data.sample_rate_hz = t.sample_rate_hz > 0 ? t.sample_rate_hz : 0.0;
     if (!t.data.relative_file.empty()) {
       if (raw) {
         if (t.data.channels.empty()) r.error("data.channels", "is required for a raw binary file");
-      } else if (!is_signal_file(t.data.file)) {
+      } else if (!is_signal_file(fs::path(t.data.relative_file))) {
         r.error("data.file", "'" + t.data.relative_file +
                                  "': unsupported signal format (use text .csv, .txt, .tsv, .lvm, "
                                  "raw .f32, .f64, UFF .uff, .unv or MATLAB .mat)");
       }
-      if (!fs::exists(t.data.file)) {
-        r.error("data.file", "'" + t.data.relative_file + "': file not found");
+      // The input boundary: inside the campaign, a regular file (nothing opened before).
+      const InputFileCheck file = check_input_file(campaign_root, t.folder, t.data.relative_file);
+      if (file.ok()) {
+        t.data.file = file.path;
+      } else {
+        r.error("data.file", file.problem);
       }
     }
   }
@@ -292,9 +297,27 @@ CampaignSpec load_campaign(const fs::path& root_in, const KindRegistry& kinds) {
            c.root, fs::directory_options::skip_permission_denied, ec);
        it != fs::recursive_directory_iterator(); it.increment(ec)) {
     if (ec) break;
-    if (it->is_regular_file() && it->path().filename() == "test.yaml") {
-      c.tests.push_back(load_test(c.root, it->path(), kinds));
+    if (it->path().filename() != "test.yaml") continue;
+    // A test.yaml that is a symlink is read only when it stays inside the campaign (the input
+    // boundary); a folder or FIFO of that name is no test. Status errors (a symlink loop) are
+    // no exception.
+    std::error_code st_ec;
+    if (it->is_symlink(st_ec)) {
+      const InputFileCheck link = check_input_file(c.root, it->path().parent_path(), "test.yaml");
+      if (!link.ok() && link.problem.find("not a regular file") != std::string::npos) continue;
+      if (!link.ok()) {
+        TestSpec t;
+        t.folder = it->path().parent_path();
+        t.campaign_root = c.root;
+        t.id = t.folder.lexically_relative(c.root).generic_string();
+        if (t.id == ".") t.id = "";
+        t.yaml_label = (t.id.empty() ? "" : t.id + "/") + "test.yaml";
+        t.errors.push_back(t.yaml_label + ": " + link.problem.substr(link.problem.find(": ") + 2));
+        c.tests.push_back(std::move(t));
+        continue;
+      }
     }
+    if (it->is_regular_file(st_ec)) c.tests.push_back(load_test(c.root, it->path(), kinds));
   }
   std::sort(c.tests.begin(), c.tests.end(),
             [](const TestSpec& a, const TestSpec& b) { return a.id < b.id; });

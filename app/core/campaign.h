@@ -41,7 +41,7 @@ struct ChannelSpec {
 };
 
 struct DataSpec {
-  fs::path file;                      // absolute path
+  fs::path file;                      // absolute path, checked by check_input_file (empty: refused)
   std::string relative_file;          // as written in test.yaml
   std::vector<std::string> channels;  // required for raw binary files
   // Delimited text (CSV) dialect, EXPERIMENT_FORMAT.md section 1.
@@ -60,6 +60,7 @@ struct KindSpec {
 struct TestSpec {
   std::string id;  // folder relative to campaign root, '/' separated
   fs::path folder;
+  fs::path campaign_root;  // every file the test names lies inside (app/core/input_boundary.h)
   std::string yaml_label;  // "<id>/test.yaml", used in messages
   std::string kind;
   double sample_rate_hz = 0.0;

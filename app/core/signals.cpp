@@ -17,6 +17,7 @@
 #include <set>
 
 #include "analysis/common/summary.h"
+#include "app/core/input_boundary.h"
 #include "app/core/yaml_reader.h"
 #include "app/formats/matfile.h"
 #include "app/formats/uff58.h"
@@ -381,7 +382,11 @@ SignalTable SignalTable::open(const DataSpec& data, const std::string& label) {
   const double sample_rate_hz = data.sample_rate_hz;
   SignalTable t;
   t.label_ = label;
-  if (!std::filesystem::exists(data.file)) throw InputError(label + ": file not found");
+  // Only a regular file is opened (a FIFO would block; app/core/input_boundary.h).
+  if (data.file.empty()) throw InputError(label + ": file not found");
+  if (const std::string why = regular_file_problem(data.file); !why.empty()) {
+    throw InputError(label + ": " + why);
+  }
   const auto ext = data.file.extension().string();
   if (ext == ".f32" || ext == ".f64") {
     t.value_bytes_ = ext == ".f32" ? 4 : 8;

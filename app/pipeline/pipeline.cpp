@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "app/core/hashing.h"
+#include "app/core/input_boundary.h"
 #include "app/core/parallel.h"
 #include "app/core/signals.h"
 
@@ -129,11 +130,17 @@ void run_node(const Node& n, Outcome& out, CampaignResults& r, Run&& run, Publis
 
 void add_inputs(CampaignResults& r) {
   auto add_input = [&](const fs::path& p) {
-    if (!fs::exists(p)) return;
+    // Only regular files inside the campaign are read (app/core/input_boundary.h): never a
+    // file a key leads outside to, a FIFO (an open would block) or a device.
+    if (!regular_file_inside(r.campaign.root, p)) return;
     InputFile f;
-    f.relative_path = fs::relative(p, r.campaign.root).generic_string();
-    f.bytes = fs::file_size(p);
-    f.sha256 = sha256_file(p);
+    try {
+      f.relative_path = fs::relative(p, r.campaign.root).generic_string();
+      f.bytes = fs::file_size(p);
+      f.sha256 = sha256_file(p);
+    } catch (const std::exception&) {  // unreadable (permissions): not hashed, the run goes on
+      return;
+    }
     r.inputs.push_back(std::move(f));
   };
   add_input(r.campaign.root / "campaign.yaml");

@@ -12,6 +12,7 @@
 #include "analysis/common/summary.h"
 #include "analysis/grinding/observability.h"
 #include "app/core/format.h"
+#include "app/core/input_boundary.h"
 #include "app/core/parallel.h"
 #include "app/core/signals.h"
 #include "app/core/yaml_reader.h"
@@ -42,15 +43,10 @@ std::string inspections_label(const TestSpec& t, const GrindingSpec& s) {
   return (t.id.empty() ? "" : t.id + "/") + s.inspections_file;
 }
 
-// The inspections file of a test: inside the test folder's campaign (nothing is read outside).
-std::filesystem::path inspections_path(const TestSpec& t, const GrindingSpec& s) {
-  return (t.folder / s.inspections_file).lexically_normal();
-}
-
-bool inside(const std::filesystem::path& root, const std::filesystem::path& p) {
-  const auto rel = std::filesystem::absolute(p).lexically_normal().lexically_relative(
-      std::filesystem::absolute(root).lexically_normal());
-  return !rel.empty() && *rel.begin() != "..";
+// The inspections file of a test, through the input boundary (inside the campaign, a regular
+// file; app/core/input_boundary.h).
+InputFileCheck inspections_check(const TestSpec& t, const GrindingSpec& s) {
+  return check_input_file(t.campaign_root, t.folder, s.inspections_file);
 }
 
 // The required mapping under `key` of `root` (a null node and an error when absent or not a
@@ -342,18 +338,18 @@ std::shared_ptr<const KindSpec> GrindingKind::parse(const YAML::Node& root, Yaml
 std::vector<std::filesystem::path> GrindingKind::input_files(const TestSpec& t) const {
   const auto* s = dynamic_cast<const GrindingSpec*>(t.params.get());
   if (!s || s->inspections_file.empty()) return {};
-  return {inspections_path(t, *s)};
+  const InputFileCheck f = inspections_check(t, *s);
+  if (!f.ok()) return {};
+  return {f.path};
 }
 
-std::vector<std::string> GrindingKind::check_campaign(const CampaignSpec& c,
+std::vector<std::string> GrindingKind::check_campaign(const CampaignSpec&,
                                                       const TestSpec& t) const {
   const auto* s = dynamic_cast<const GrindingSpec*>(t.params.get());
   if (!s || s->inspections_file.empty()) return {};
-  const auto p = inspections_path(t, *s);
-  const std::string where = t.yaml_label + ": key 'inspections.file' '" + s->inspections_file + "'";
-  if (!inside(c.root, p)) return {where + ": must lie inside the campaign folder"};
-  if (!std::filesystem::is_regular_file(p)) return {where + ": file not found"};
-  return {};
+  const InputFileCheck f = inspections_check(t, *s);
+  if (f.ok()) return {};
+  return {input_file_message(t.yaml_label, "inspections.file", f.problem)};
 }
 
 // An available_cycle at or beyond this is "never" (no series has so many cycles).
@@ -455,12 +451,9 @@ void GrindingKind::run(const TestSpec& t, const CampaignValues&, const RunContex
   auto res = std::make_unique<GrindingResult>();
   const g::FastRecord rec = read_record(t);
   if (!s.inspections_file.empty()) {
-    if (ctx.campaign && !inside(ctx.campaign->root, inspections_path(t, s))) {
-      throw InputError(t.yaml_label + ": key 'inspections.file' '" + s.inspections_file +
-                       "': must lie inside the campaign folder");
-    }
     res->inspections =
-        read_inspections(inspections_path(t, s), inspections_label(t, s), out.warnings);
+        read_inspections(resolve_input_file(t, "inspections.file", s.inspections_file),
+                         inspections_label(t, s), out.warnings);
   }
   // A series still being acquired: inspections and dressings past the record's last cycle are
   // left for a later run, with a warning (the format is silent on them).

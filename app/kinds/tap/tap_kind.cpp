@@ -9,6 +9,7 @@
 #include "analysis/common/constants.h"
 #include "analysis/frf/mode.h"
 #include "app/core/format.h"
+#include "app/core/input_boundary.h"
 #include "app/core/yaml_reader.h"
 #include "app/formats/frf_text.h"
 #include "app/formats/uff58.h"
@@ -153,7 +154,17 @@ std::vector<std::string> TapKind::required_channels(const TestSpec& t) const {
 std::vector<std::filesystem::path> TapKind::input_files(const TestSpec& t) const {
   const auto* s = dynamic_cast<const TapSpec*>(t.params.get());
   if (!s || !s->frf || s->frf->file.empty()) return {};
-  return {t.folder / s->frf->file};
+  const InputFileCheck f = check_input_file(t.campaign_root, t.folder, s->frf->file);
+  if (!f.ok()) return {};
+  return {f.path};
+}
+
+std::vector<std::string> TapKind::check_campaign(const CampaignSpec&, const TestSpec& t) const {
+  const auto* s = dynamic_cast<const TapSpec*>(t.params.get());
+  if (!s || !s->frf || s->frf->file.empty()) return {};
+  const InputFileCheck f = check_input_file(t.campaign_root, t.folder, s->frf->file);
+  if (f.ok()) return {};
+  return {input_file_message(t.yaml_label, "frf.file", f.problem)};
 }
 
 namespace {

@@ -8,6 +8,7 @@
 #include "analysis/frf/frf.h"
 #include "analysis/frf/hits.h"
 #include "analysis/frf/modal_fit.h"
+#include "app/core/input_boundary.h"
 #include "app/core/signals.h"
 #include "app/formats/frf_text.h"
 #include "app/formats/uff58.h"
@@ -136,10 +137,7 @@ frf::Frf read_tap_frf(const TestSpec& t, std::vector<std::string>* warnings, std
   CHATTERLAB_CHECK(tap.frf.has_value(), t.yaml_label + ": the tap test names no frf file");
   const TapFrfInput& in = *tap.frf;
   const std::string label = (t.id.empty() ? "" : t.id + "/") + in.file;
-  const std::filesystem::path file = t.folder / in.file;
-  if (!std::filesystem::exists(file)) {
-    throw InputError(t.yaml_label + ": key 'frf.file' '" + in.file + "': file not found");
-  }
+  const std::filesystem::path file = resolve_input_file(t, "frf.file", in.file);
   if (!is_uff(file) && in.record > 0) {
     throw InputError(t.yaml_label + ": key 'frf.record' is only for a UFF58 file (.uff, .unv)");
   }
