@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <system_error>
 
 #include "analysis/common/summary.h"
 
@@ -105,6 +106,27 @@ double element(const matvar_t& v, std::size_t i) {
   }
 }
 
+// Throws InputError when a v4/v5 variable's header declares more values than its file can
+// hold: uncompressed, every value takes at least one byte; compressed (zlib), at least 1/1100
+// of one. A damaged header (e.g. 1090519080 x 3481666 in a 1.3 kB file) is refused before
+// its columns are listed or its data allocated. v7.3 (HDF5) datasets may be stored as a fill
+// value and are not checked.
+void check_declared_size(mat_t* m, const matvar_t& v, const std::filesystem::path& file) {
+  if (Mat_GetVersion(m) == MAT_FT_MAT73 || v.rank != 2 || !v.dims) return;
+  std::error_code ec;
+  const std::uintmax_t bytes = std::filesystem::file_size(file, ec);
+  if (ec) return;
+  const std::uintmax_t per_byte = v.compression == MAT_COMPRESSION_NONE ? 1 : 1100;
+  const std::uintmax_t limit = bytes * per_byte;
+  const std::uintmax_t rows = v.dims[0], cols = v.dims[1];
+  if (rows != 0 && cols > limit / rows) {
+    throw InputError(file.string() + ": variable '" + (v.name ? v.name : "") + "' declares " +
+                     std::to_string(rows) + " x " + std::to_string(cols) +
+                     " values, more than the " + std::to_string(bytes) +
+                     "-byte file can hold (a damaged file)");
+  }
+}
+
 }  // namespace
 
 std::vector<Variable> numeric_variables(const std::filesystem::path& file) {
@@ -113,6 +135,7 @@ std::vector<Variable> numeric_variables(const std::filesystem::path& file) {
   std::vector<Variable> out;
   while (Var v{Mat_VarReadNextInfo(m.get())}) {
     if (!v->name || !numeric_class(v->class_type) || v->rank != 2) continue;
+    check_declared_size(m.get(), *v, file);
     out.push_back({v->name, v->dims[0], v->dims[1], v->isComplex != 0});
   }
   return out;
@@ -122,6 +145,7 @@ namespace {
 
 Var read_numeric(mat_t* m, const std::filesystem::path& file, const std::string& name) {
   const std::string where = file.string() + ": variable '" + name + "'";
+  if (const Var info{Mat_VarReadInfo(m, name.c_str())}) check_declared_size(m, *info, file);
   Var v{Mat_VarRead(m, name.c_str())};
   if (!v) {
     std::string names;
