@@ -1,0 +1,28 @@
+// mat::numeric_variables and read_vector (libmatio underneath) on .mat files, then
+// SignalTable::open on the same bytes as a .mat signal file. InputError is expected.
+#include <cstddef>
+#include <cstdint>
+
+#include "analysis/common/summary.h"
+#include "app/core/signals.h"
+#include "app/formats/matfile.h"
+#include "fuzz/fuzz_common.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const auto file = chatterlab::fuzz::write_input("signals.mat", data, size);
+  try {
+    for (const auto& v : chatterlab::app::mat::numeric_variables(file)) {
+      if (v.vector()) (void)chatterlab::app::mat::read_vector(file, v.name);
+    }
+  } catch (const chatterlab::InputError&) {
+  }
+  try {
+    chatterlab::app::DataSpec spec;
+    spec.file = file;
+    spec.relative_file = "signals.mat";
+    const auto table = chatterlab::app::SignalTable::open(spec, spec.relative_file);
+    for (const auto& name : table.names()) (void)table.channel(name);
+  } catch (const chatterlab::InputError&) {
+  }
+  return 0;
+}

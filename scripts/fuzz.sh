@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets of fuzz/ in build-fuzz/ (clang, ASan, UBSan) and runs each one
+# after the other, printing its executions and executions per second (docs/fuzzing.md).
+#
+#   scripts/fuzz.sh [-t seconds | -r runs] [-j jobs] [target ...]
+#
+#   -t seconds  run each target for this long (-max_total_time; default 60)
+#   -r runs     run each target for this many inputs (-runs) instead
+#   -j jobs     build parallelism (default 2)
+#   target      campaign test_yaml signals uff58 frf_text matfile (default: all)
+#
+# Each target starts from its seed corpus fuzz/corpus/<target>/ (read only) and keeps what it
+# finds in build-fuzz/fuzz-corpus/<target>/; crashes go to build-fuzz/fuzz-artifacts/<target>/.
+# Runs under nice -n 19, one target at a time. Exit status 1 when a target failed.
+set -euo pipefail
+
+root="$(cd "$(dirname "$0")/.." && pwd)"
+build="$root/build-fuzz"
+seconds=60
+runs=""
+jobs=2
+while getopts "t:r:j:h" opt; do
+  case "$opt" in
+    t) seconds="$OPTARG" ;;
+    r) runs="$OPTARG" ;;
+    j) jobs="$OPTARG" ;;
+    *) sed -n '2,15p' "$0"; exit 2 ;;
+  esac
+done
+shift $((OPTIND - 1))
+targets=("$@")
+if [ ${#targets[@]} -eq 0 ]; then
+  targets=(campaign test_yaml signals uff58 frf_text matfile)
+fi
+
+if [ ! -f "$build/CMakeCache.txt" ]; then
+  CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCHATTERLAB_FUZZ=ON \
+    -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCHATTERLAB_WERROR=OFF -DCHATTERLAB_BENCHMARKS=OFF
+fi
+cmake --build "$build" -j"$jobs" --target $(printf '%s_fuzz ' "${targets[@]}")
+
+status=0
+summary=()
+for t in "${targets[@]}"; do
+  work="$build/fuzz-corpus/$t"
+  artifacts="$build/fuzz-artifacts/$t"
+  mkdir -p "$work" "$artifacts"
+  args=(-timeout=10 -rss_limit_mb=2048 -print_final_stats=1 "-artifact_prefix=$artifacts/")
+  if [ -n "$runs" ]; then args+=("-runs=$runs"); else args+=("-max_total_time=$seconds"); fi
+  if [ -f "$root/fuzz/$t.dict" ]; then args+=("-dict=$root/fuzz/$t.dict"); fi
+  log="$build/fuzz-$t.log"
+  echo "== $t"
+  if LSAN_OPTIONS="suppressions=$root/fuzz/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}" \
+    nice -n 19 "$build/fuzz/${t}_fuzz" "${args[@]}" "$work" "$root/fuzz/corpus/$t" >"$log" 2>&1; then
+    result=ok
+  else
+    result="FAILED (see $log and $artifacts/)"
+    status=1
+  fi
+  execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
+  rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
+  line="$t: ${execs:-?} executions, ${rate:-?} exec/s, $result"
+  echo "$line"
+  summary+=("$line")
+done
+echo "== summary"
+printf '%s\n' "${summary[@]}"
+exit $status
