@@ -16,6 +16,7 @@
 
 #include "analysis/common/summary.h"
 #include "app/cli/exit_codes.h"
+#include "app/cli/output_folder.h"
 #include "app/core/campaign.h"
 #include "app/core/signals.h"
 #include "app/formats/frf_text.h"
@@ -674,20 +675,6 @@ bool is_data_file(const fs::path& p) {
          e == ".mat" || e == ".f32" || e == ".f64";
 }
 
-bool is_report_folder(const fs::path& dir) {
-  std::error_code ec;
-  const fs::path r = dir / "results.json";
-  if (!fs::is_regular_file(r, ec)) return false;
-  try {
-    std::ifstream in(r);
-    const auto j = nlohmann::json::parse(in);
-    return j.is_object() && j.contains("format") && j["format"].is_string() &&
-           j["format"].get<std::string>().rfind("chatterlab-", 0) == 0;
-  } catch (const std::exception&) {
-    return false;
-  }
-}
-
 std::string safe_name(const std::string& s) {
   std::string out;
   for (const char c : s) {
@@ -1105,7 +1092,7 @@ InitProposal propose_campaign(const fs::path& folder_in) {
     const std::string name = path.filename().string();
     const auto st = it->symlink_status(ec);
     if (fs::is_directory(st)) {
-      if (name.rfind('.', 0) == 0 || is_report_folder(path) ||
+      if (name.rfind('.', 0) == 0 || is_chatterlab_results(path / "results.json") ||
           (has_truth && path.parent_path() == root && name == "truth")) {
         it.disable_recursion_pending();
       }

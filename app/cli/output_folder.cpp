@@ -15,19 +15,6 @@ namespace {
 const char* const kManifestHeader =
     "# chatterlab: the files the last run wrote in this folder, removed by the next run into it";
 
-bool is_chatterlab_results(const fs::path& file) {
-  std::error_code ec;
-  if (!fs::is_regular_file(file, ec)) return false;
-  try {
-    std::ifstream in(file);
-    const auto j = nlohmann::json::parse(in);
-    return j.is_object() && j.contains("format") && j["format"].is_string() &&
-           j["format"].get<std::string>().rfind("chatterlab-", 0) == 0;
-  } catch (const std::exception&) {
-    return false;
-  }
-}
-
 // A relative path that stays inside the folder ("a/b.svg", not "/x", "../x" or "a/../../x").
 bool stays_inside(const std::string& relative) {
   if (relative.empty()) return false;
@@ -185,6 +172,19 @@ void OutputFolder::write_manifest() const {
       if (t == it->second.first && size == it->second.second) continue;  // not ours
     }
     out << rel << "\n";
+  }
+}
+
+bool is_chatterlab_results(const fs::path& file) {
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) return false;
+  try {
+    std::ifstream in(file);
+    const auto j = nlohmann::json::parse(in);
+    return j.is_object() && j.contains("format") && j["format"].is_string() &&
+           j["format"].get<std::string>().rfind("chatterlab-", 0) == 0;
+  } catch (const std::exception&) {
+    return false;
   }
 }
 

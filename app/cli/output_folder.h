@@ -44,6 +44,10 @@ class OutputFolder {
   std::map<std::string, std::pair<std::filesystem::file_time_type, std::uintmax_t>> kept_;
 };
 
+// Whether `file` is a results.json that chatterlab wrote (a JSON object whose "format" starts
+// with "chatterlab-"); false for anything else, unreadable or not JSON.
+bool is_chatterlab_results(const std::filesystem::path& file);
+
 // The files below `dir` (regular files and symbolic links, relative with '/' separators,
 // sorted), not entering linked folders. Exposed for tests.
 std::vector<std::string> files_below(const std::filesystem::path& dir);
