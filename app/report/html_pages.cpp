@@ -111,6 +111,29 @@ std::string replace_all(std::string s, const std::string& from, const std::strin
   return s;
 }
 
+// Every <details> tag (with or without attributes) opened: print shows what the screen folds.
+std::string open_details(const std::string& html) {
+  std::string out;
+  out.reserve(html.size() + 256);
+  std::size_t pos = 0;
+  for (auto at = html.find("<details", pos); at != std::string::npos;
+       at = html.find("<details", pos)) {
+    const auto end = html.find('>', at);
+    if (end == std::string::npos) break;
+    const std::string tag = html.substr(at, end + 1 - at);
+    const char next = tag.size() > 8 ? tag[8] : '\0';
+    out.append(html, pos, at - pos);
+    if ((next == ' ' || next == '>') && tag.find(" open") == std::string::npos) {
+      out += "<details open" + tag.substr(8);
+    } else {
+      out += tag;
+    }
+    pos = end + 1;
+  }
+  out.append(html, pos, std::string::npos);
+  return out;
+}
+
 std::string mime_type(const std::filesystem::path& p) {
   const std::string ext = p.extension().string();
   if (ext == ".svg") return "image/svg+xml";
@@ -164,7 +187,7 @@ std::string print_page(const std::string& html) {
   const std::string kept = edit_images(html, [](const std::string& tag) -> std::string {
     return attribute(tag, "class") == "screen-only" ? std::string() : tag;
   });
-  return label_figures(replace_all(kept, "<details>", "<details open>"), nullptr);
+  return label_figures(open_details(kept), nullptr);
 }
 
 std::string single_file_page(const std::string& screen_html, const std::filesystem::path& out) {

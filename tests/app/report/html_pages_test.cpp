@@ -15,7 +15,7 @@ using chatterlab::testing::TempDir;
 // One figure as the templates draw it, inside a closed family, and one figure with its own id.
 constexpr const char* kPage =
     "<head><link rel=\"stylesheet\" href=\"report.css\"></head>\n"
-    "<details>\n<summary>2 figures</summary>\n"
+    "<details class=\"family\">\n<summary>2 figures</summary>\n"
     "<figure class=\"fig\">\n"
     "  <img class=\"screen-only\" src=\"figures/a/b.svg\" alt=\"A\"><img class=\"print-only\" "
     "src=\"figures/a/b.png\" alt=\"A\">\n"
@@ -46,7 +46,7 @@ TEST(HtmlPages, ScreenPageLoadsOnlyTheSvgsLazilyAndLabelsFigures) {
             std::string::npos);
   EXPECT_NE(s.find("<figure class=\"fig\" id=\"own\">"), std::string::npos);
   EXPECT_EQ(s.find("figures/c.csv"), std::string::npos);
-  EXPECT_NE(s.find("<details>"), std::string::npos);  // the family stays closed on screen
+  EXPECT_NE(s.find("<details class=\"family\">"), std::string::npos);  // closed on screen
 }
 
 TEST(HtmlPages, PrintPageKeepsThePngsAndOpensFamilies) {
@@ -54,7 +54,8 @@ TEST(HtmlPages, PrintPageKeepsThePngsAndOpensFamilies) {
   EXPECT_EQ(p.find(".svg"), std::string::npos);
   EXPECT_NE(p.find("<img class=\"print-only\" src=\"figures/a/b.png\" alt=\"A\">"),
             std::string::npos);
-  EXPECT_NE(p.find("<details open>"), std::string::npos);
+  EXPECT_NE(p.find("<details open class=\"family\">"), std::string::npos);
+  EXPECT_EQ(print_page("<details open><details>").find("<details open><details open>"), 0u);
   EXPECT_NE(p.find("<figure class=\"fig\" id=\"fig-a-b\">"), std::string::npos);
   EXPECT_EQ(p.find("fig-data"), std::string::npos);  // no links to local files in the PDF
 }
