@@ -263,14 +263,16 @@ TEST_F(HtmlToPdfPdfaTest, TemplateHeadsCarryTheMetadata) {
       {"report.html",
        {{"campaign", {{"name", "lab_2026"}, {"description", "Spindle 3 tap tests"}}},
         {"version", "9.8.7"},
-        {"generated_utc", "2026-12-02 01:29 UTC"}},
+        {"generated_utc", "2026-12-02 01:29 UTC"},
+        {"generated_iso", "2026-12-02T01:29:00Z"}},
        "lab_2026: chatterlab report",
        "Spindle 3 tap tests"},
       {"simulation.html",
        {{"name", "incline"},
         {"summary_line", "Bifurcation depth 2.31 mm"},
         {"version", "9.8.7"},
-        {"generated_utc", "2026-12-02 01:29 UTC"}},
+        {"generated_utc", "2026-12-02 01:29 UTC"},
+        {"generated_iso", "2026-12-02T01:29:00Z"}},
        "incline: chatterlab simulation",
        "Bifurcation depth 2.31 mm"},
   };
@@ -294,6 +296,9 @@ TEST_F(HtmlToPdfPdfaTest, TemplateHeadsCarryTheMetadata) {
     EXPECT_EQ(info.value("/Subject", ""), std::string("u:") + c.subject);
     EXPECT_EQ(info.value("/Author", ""), "u:chatterlab 9.8.7");
     EXPECT_EQ(info.value("/Creator", ""), "u:chatterlab 9.8.7");
+    // dcterms.created: the report's own time, not the conversion's.
+    EXPECT_EQ(info.value("/CreationDate", "").rfind("u:D:202612020129", 0), 0u)
+        << info.value("/CreationDate", "");
     EXPECT_NE(info.value("/Keywords", "").find("chatterlab"), std::string::npos);
     const json& catalog = deref(objects, trailer.at("/Root")).at("value");
     const std::string xmp = stream_data(pdf, catalog.at("/Metadata"));
