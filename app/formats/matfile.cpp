@@ -3,7 +3,10 @@
 #include <matio.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <cstdint>
+#include <fstream>
 #include <memory>
 #include <mutex>
 #include <system_error>
@@ -47,12 +50,38 @@ struct VarFreer {
 using File = std::unique_ptr<mat_t, FileCloser>;
 using Var = std::unique_ptr<matvar_t, VarFreer>;
 
+// Why the file's first 128 bytes are not the header of a v5 or v7.3 .mat file (empty when they
+// are): descriptive text starting "MATLAB", version 0x0100 (v5) or 0x0200 (v7.3, an HDF5 file
+// with this header as its user block), endian indicator "IM" or "MI" (the MAT-file format,
+// "Level 5 MAT-File Format", header). libmatio would also try a headerless file as v4, and a
+// damaged one made it allocate 2.5 GB before any check of ours could run (fuzzing finding 3,
+// docs/fuzzing.md): only these two headers are handed to it. v4 files (MATLAB 4, before 1996)
+// are refused.
+std::string header_problem(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::array<unsigned char, 128> h{};
+  if (!in.read(reinterpret_cast<char*>(h.data()), static_cast<std::streamsize>(h.size()))) {
+    return "shorter than the 128-byte header of a v5 or v7.3 .mat file";
+  }
+  const bool text = std::equal(h.begin(), h.begin() + 6, "MATLAB");
+  const bool little = h[126] == 'I' && h[127] == 'M';
+  const bool big = h[126] == 'M' && h[127] == 'I';
+  const unsigned version = little ? (h[124] | (h[125] << 8)) : ((h[124] << 8) | h[125]);
+  if (!text || !(little || big) || (version != 0x0100 && version != 0x0200)) {
+    return "not a v5 or v7.3 .mat file (no MAT-file header; v4 files are not read)";
+  }
+  return "";
+}
+
 File open_read(const std::filesystem::path& file) {
   init_log();
   if (!std::filesystem::exists(file)) throw InputError(file.string() + ": file not found");
+  if (const std::string why = header_problem(file); !why.empty()) {
+    throw InputError(file.string() + ": " + why);
+  }
   File m(Mat_Open(file.c_str(), MAT_ACC_RDONLY));
   if (!m) {
-    throw InputError(file.string() + ": not a MATLAB .mat file libmatio can read (v4, v5, v7.3)" +
+    throw InputError(file.string() + ": not a MATLAB .mat file libmatio can read (v5, v7.3)" +
                      matio_said());
   }
   return m;

@@ -230,7 +230,9 @@ TEST(SignalsFormats, MatChannelsAreVectorsAndMatrixColumns) {
   }
   d.write("not.mat", "force,response\n1,2\n");
   EXPECT_EQ(message_of(spec(d.path() / "not.mat"))
-                .rfind("t/not.mat: not a MATLAB .mat file libmatio can read (v4, v5, v7.3)", 0),
+                .rfind("t/not.mat: not a v5 or v7.3 .mat file (no MAT-file header; v4 files are "
+                       "not read)",
+                       0),
             0u)
       << message_of(spec(d.path() / "not.mat"));
 }

@@ -60,5 +60,57 @@ TEST(MatfileFuzzRegression, DeclaredSizeBeyondTheFileIsRefused) {
   }
 }
 
+// Finding 3: a file without a v5/v7.3 header (the fuzzer's began `2c 00 00 00 00 00 00 00 2e 30
+// 20 4d 41 54`) went to libmatio as a v4 file and made it allocate 2.5 GB. Such files are now
+// refused before libmatio sees them: a real v4 file (1x1 double 'x', 20-byte header), that
+// file's damaged twin, a v5 header of an unknown version, a file shorter than a header; a
+// genuine v5 file with a damaged first byte of text is refused too (the text must start
+// "MATLAB").
+TEST(MatfileFuzzRegression, FilesWithoutAV5OrV73HeaderAreRefusedBeforeLibmatio) {
+  const TempDir dir;
+  const std::string refused =
+      ": not a v5 or v7.3 .mat file (no MAT-file header; v4 files are not read)";
+  auto expect_refused = [&](const std::string& name, const std::string& bytes,
+                            const std::string& why) {
+    const auto file = dir.path() / name;
+    std::ofstream(file, std::ios::binary) << bytes;
+    try {
+      numeric_variables(file);
+      ADD_FAILURE() << name << ": no InputError";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()), file.string() + why) << name;
+    }
+  };
+  double one = 1.0;
+  std::string v4 = int32_pair(0, 1) + int32_pair(1, 0) + int32_pair(2, 0).substr(0, 4) +
+                   std::string("x\0", 2) + std::string(8, '\0');
+  std::memcpy(v4.data() + v4.size() - 8, &one, 8);
+  expect_refused("v4.mat", v4 + std::string(128, '\0'), refused);
+  std::string damaged = v4 + std::string(180, '\0');
+  damaged[0] = 0x2c;
+  expect_refused("damaged-v4.mat", damaged, refused);
+  expect_refused("short.mat", "MATLAB 5.0 MAT-file",
+                 ": shorter than the 128-byte header of a v5 or v7.3 .mat file");
+
+  const auto good = dir.path() / "good.mat";
+  write_mat(good, {{"M", Eigen::MatrixXd::Ones(3, 2)}});
+  std::string bytes;
+  {
+    std::ifstream in(good, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    bytes = s.str();
+  }
+  ASSERT_EQ(bytes.compare(0, 6, "MATLAB"), 0);
+  ASSERT_EQ(numeric_variables(good).size(), 1u);
+  std::string version = bytes;
+  version[124] = 0x00;  // little-endian 0x0300: no such version
+  version[125] = 0x03;
+  expect_refused("version.mat", version, refused);
+  std::string text = bytes;
+  text[0] = 'X';
+  expect_refused("text.mat", text, refused);
+}
+
 }  // namespace
 }  // namespace chatterlab::app::mat
