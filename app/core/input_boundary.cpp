@@ -2,6 +2,7 @@
 
 #include <system_error>
 
+#include "analysis/common/number_text.h"
 #include "analysis/common/summary.h"
 #include "app/core/campaign.h"
 
@@ -43,8 +44,15 @@ std::string regular_file_problem(const fs::path& file) {
     return "cannot be read (" + ec.message() + ")";
   }
   switch (st.type()) {
-    case fs::file_type::regular:
+    case fs::file_type::regular: {
+      const std::uintmax_t bytes = fs::file_size(file, ec);
+      if (ec) return "cannot be read (" + ec.message() + ")";
+      if (bytes > kMaxInputFileBytes) {
+        return "is " + significant_text(static_cast<double>(bytes) / 1e9, 3) +
+               " GB, above the 4 GiB limit of an input file";
+      }
       return "";
+    }
     case fs::file_type::directory:
       return "is a folder, not a regular file";
     case fs::file_type::fifo:

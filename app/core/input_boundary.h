@@ -8,6 +8,7 @@
 //   with the file's status before anything opens it, so a FIFO never blocks).
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 
@@ -41,8 +42,15 @@ std::filesystem::path resolve_input_file(const TestSpec& t, const std::string& k
 std::string input_file_message(const std::string& yaml_label, const std::string& key,
                                const std::string& problem);
 
-// Why `file` is not an existing regular file ("is a FIFO, not a regular file"; "file not
-// found"), from its status (symlinks followed, nothing opened); empty when it is one.
+// The largest file a campaign may name (4 GiB): a larger one is refused before anything reads
+// or hashes it (docs/format/campaign.md, "Files a test names"). A record of a few minutes at
+// 100 kHz on a few channels is a few hundred megabytes as CSV; a file beyond this is a mistake
+// (a disk image, a video) that would exhaust memory or take minutes to hash.
+inline constexpr std::uintmax_t kMaxInputFileBytes = std::uintmax_t{4} << 30;
+
+// Why `file` is not an existing regular file of at most kMaxInputFileBytes ("is a FIFO, not a
+// regular file"; "file not found"; "is 5.4 GB, above the 4 GiB limit of an input file"), from
+// its status (symlinks followed, nothing opened); empty when it is one.
 std::string regular_file_problem(const std::filesystem::path& file);
 
 // True when `file`, symlinks resolved, lies inside `campaign_root` and is a regular file: the

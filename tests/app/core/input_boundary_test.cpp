@@ -53,7 +53,11 @@ std::map<std::string, std::string> snapshot(const fs::path& root) {
     const std::string rel = it->path().lexically_relative(root).generic_string();
     const fs::file_status st = fs::symlink_status(it->path());
     std::string what = std::to_string(static_cast<int>(st.type()));
-    if (st.type() == fs::file_type::regular) what += " " + sha256_file(it->path());
+    if (st.type() == fs::file_type::regular) {
+      // The sparse file above the size limit: its size stands for its bytes (all zero).
+      const auto bytes = fs::file_size(it->path());
+      what += " " + (bytes > kMaxInputFileBytes ? std::to_string(bytes) : sha256_file(it->path()));
+    }
     if (st.type() == fs::file_type::symlink) what += " -> " + fs::read_symlink(it->path()).string();
     out[rel] = what;
   }
@@ -138,6 +142,14 @@ struct Fixture {
     fs::create_symlink("loop.csv", campaign / "loop/rec.csv");
     fs::create_symlink("rec.csv", campaign / "loop/loop.csv");
     add("loop", "rec.csv", "is a symlink loop, not a regular file");
+    // A file above the size limit (sparse: nothing is written, nothing may read it), and a
+    // name longer than the file system allows.
+    fs::resize_file(d.write("campaign/huge/rec.csv", "Fx,Fy,zero\n"), kMaxInputFileBytes + 1);
+    add("huge", "rec.csv", "is 4.29 GB, above the 4 GiB limit of an input file");
+    const std::string long_name(300, 'n');
+    add("longname", long_name + ".csv",
+        "cannot be resolved (" + std::make_error_code(std::errc::filename_too_long).message() +
+            ")");
     // Another file key (a tap test's measured FRF) through the same boundary.
     d.write("campaign/frf/test.yaml",
             "kind: tap\naxis: x\nresponse: displacement\nfrf: {file: ../../outside.csv}\n");
