@@ -94,6 +94,20 @@ ComparisonWindow comparison_window(const CutSchedule& cut, double spindle_rpm, i
   return w;
 }
 
+namespace {
+
+// A measured revolution whose variation is below this fraction of the simulated one is flat.
+constexpr double kFlatFraction = 1e-3;
+
+// RMS of (x, y) about their means, over both axes.
+double rms_about_mean(const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+  if (x.size() == 0) return 0.0;
+  return std::sqrt(((x.array() - x.mean()).square().sum() + (y.array() - y.mean()).square().sum()) /
+                   (2.0 * static_cast<double>(x.size())));
+}
+
+}  // namespace
+
 OffsetAngleResult find_offset_angle(const RevolutionMean& measured,
                                     const milling::SimulationOptions& parameters, double depth_m,
                                     const OffsetSearchOptions& options) {
@@ -130,6 +144,22 @@ OffsetAngleResult find_offset_angle(const RevolutionMean& measured,
 
   const auto t_search = std::chrono::steady_clock::now();
   const RevolutionMatcher matcher(measured.x_m, measured.y_m, last.x_m, last.y_m);
+  // A measured revolution that does not vary (deflection channels of zeros or of a constant:
+  // a sensor not connected) matches every angle equally: no offset is found, rather than the
+  // search's arbitrary best (issue 16). Compared about the means, as the sensors' static
+  // offsets are arbitrary.
+  const double measured_ac = rms_about_mean(measured.x_m, measured.y_m);
+  const double simulated_ac = rms_about_mean(last.x_m, last.y_m);
+  if (!(measured_ac > kFlatFraction * simulated_ac)) {
+    r.summary.fail(
+        "the measured deflection does not vary over the revolution (RMS about its mean " +
+        fmt(measured_ac, 3) + " m, below " + fmt(100.0 * kFlatFraction, 2) +
+        " % of the simulated revolution's " + fmt(simulated_ac, 3) + " m at " + fmt(depth_m * 1e3) +
+        " mm): no offset angle can be found; are the deflection channels connected "
+        "and scaled?");
+    return r;
+  }
+
   r.search = search_offset(matcher, o.teeth, options);
   r.model_teeth_alike = teeth_alike(o);
   if (r.model_teeth_alike && r.search.ambiguous) {

@@ -210,6 +210,25 @@ TEST(OffsetAngle, DivergingSimulationFailsTheStep) {
   EXPECT_EQ(r.summary.message.rfind("simulation at 10 mm failed: ", 0), 0u) << r.summary.message;
 }
 
+// Deflection channels of zeros or of a constant (a sensor not connected): every angle fits
+// equally, so no offset is found and the step fails with the reason (issue 16: a cut with zero
+// deflection was reported "ok" with an offset).
+TEST(OffsetAngle, FlatMeasuredRevolutionFailsTheStep) {
+  for (const double level : {0.0, 2.5e-4}) {
+    RevolutionMean measured;
+    measured.x_m = Eigen::VectorXd::Constant(400, level);
+    measured.y_m = Eigen::VectorXd::Constant(400, -level);
+    const OffsetAngleResult r = find_offset_angle(measured, testing::table52_incline1(), 1e-3);
+    EXPECT_FALSE(r.summary.ok()) << level;
+    EXPECT_EQ(r.summary.message.rfind("the measured deflection does not vary over the revolution "
+                                      "(RMS about its mean 0 m, below 0.1 % of the simulated "
+                                      "revolution's ",
+                                      0),
+              0u)
+        << r.summary.message;
+  }
+}
+
 TEST(OffsetAngle, BadArgumentsThrow) {
   RevolutionMean measured;
   measured.x_m = Eigen::VectorXd::Zero(400);
