@@ -19,6 +19,7 @@
 #include "app/cli/output_folder.h"
 #include "app/core/campaign.h"
 #include "app/core/signals.h"
+#include "app/core/yaml_load.h"
 #include "app/formats/frf_text.h"
 #include "app/formats/matfile.h"
 #include "app/formats/uff58.h"
@@ -696,7 +697,9 @@ std::set<fs::path> described_files(const fs::path& root, const std::vector<fs::p
   std::set<fs::path> out;
   for (const auto& y : yamls) {
     try {
-      const YAML::Node n = YAML::LoadFile(y.string());
+      std::vector<std::string> refused;  // a refused test.yaml names no file
+      const YAML::Node n = load_yaml_file(y, y.filename().string(), &refused);
+      if (!n || !n.IsMap()) continue;
       for (const char* key : {"data", "frf", "inspections"}) {
         if (n[key] && n[key].IsMap() && n[key]["file"] && n[key]["file"].IsScalar()) {
           const fs::path f =
@@ -711,7 +714,9 @@ std::set<fs::path> described_files(const fs::path& root, const std::vector<fs::p
   std::error_code ec;
   if (fs::is_regular_file(root / "truth.yaml", ec)) {
     try {
-      std::vector<YAML::Node> todo = {YAML::LoadFile((root / "truth.yaml").string())};
+      std::vector<std::string> refused;
+      std::vector<YAML::Node> todo = {load_yaml_file(root / "truth.yaml", "truth.yaml", &refused)};
+      if (!todo.back()) todo.clear();
       while (!todo.empty()) {
         const YAML::Node n = todo.back();
         todo.pop_back();

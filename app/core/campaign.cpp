@@ -8,6 +8,7 @@
 
 #include "app/core/input_boundary.h"
 #include "app/core/signals.h"
+#include "app/core/yaml_load.h"
 #include "app/core/yaml_reader.h"
 #include "app/pipeline/registry.h"
 
@@ -19,17 +20,14 @@ const char* kCampaignFormat = "chatterlab-campaign/1";
 
 YAML::Node load_yaml(const fs::path& file, const std::string& label,
                      std::vector<std::string>* errors) {
-  try {
-    YAML::Node n = YAML::LoadFile(file.string());
-    if (!n.IsMap()) {
-      errors->push_back(label + ": must be a YAML mapping of keys");
-      return YAML::Node();
-    }
-    return n;
-  } catch (const YAML::Exception& e) {
-    errors->push_back(label + ": not valid YAML (" + e.what() + ")");
+  // Size, non-scalar and duplicate keys, depth: the whole file is refused (app/core/yaml_load.h).
+  YAML::Node n = load_yaml_file(file, label, errors);
+  if (!n) return YAML::Node();
+  if (!n.IsMap()) {
+    errors->push_back(label + ": must be a YAML mapping of keys");
     return YAML::Node();
   }
+  return n;
 }
 
 // channels.<name>.column: a header text, or a 0-based index written as a plain integer.
@@ -106,7 +104,11 @@ void read_channels(const YAML::Node& root, YamlReader& r, TestSpec& t) {
     return;
   }
   for (const auto& kv : ch) {
-    const auto name = kv.first.as<std::string>();
+    if (!is_name_key(kv.first)) {
+      r.error("channels", "has a key that is not a channel name");
+      continue;
+    }
+    const auto name = kv.first.Scalar();
     const std::string path = "channels." + name;
     ChannelSpec c;
     if (!kv.second.IsMap()) {
@@ -204,10 +206,13 @@ TestSpec load_test(const fs::path& campaign_root, const fs::path& test_yaml,
   read_channels(root, r, t);
   if (const YAML::Node ref = root["reference"]; ref && ref.IsMap()) {
     for (const auto& kv : ref) {
-      try {
-        t.reference[kv.first.as<std::string>()] = kv.second.as<double>();
-      } catch (const YAML::Exception&) {
-        r.warn("reference." + kv.first.as<std::string>(), "is not a number and is ignored");
+      if (!is_name_key(kv.first)) continue;  // refused by load_yaml_file already
+      const std::string key = kv.first.Scalar();
+      double v = 0;
+      if (kv.second.IsScalar() && YAML::convert<double>::decode(kv.second, v) && std::isfinite(v)) {
+        t.reference[key] = v;
+      } else {
+        r.warn("reference." + key, "is not a finite number and is ignored");
       }
     }
   }

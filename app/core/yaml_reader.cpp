@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "app/core/yaml_load.h"
+
 namespace chatterlab::app {
 namespace {
 
@@ -66,7 +68,8 @@ std::string YamlReader::missing_message(const YAML::Node& map, const std::string
     std::string best;
     int best_d = 1 << 20;
     for (const auto& kv : map) {
-      const auto k = kv.first.as<std::string>();
+      if (!is_name_key(kv.first)) continue;
+      const auto k = kv.first.Scalar();
       const int d = edit_distance(k, key);
       if (looks_like(k, key) && d < best_d) {
         best_d = d;
@@ -185,7 +188,14 @@ void YamlReader::check_keys(const YAML::Node& map, const std::set<std::string>& 
                             const std::string& path) {
   if (!map.IsMap()) return;
   for (const auto& kv : map) {
-    const auto k = kv.first.as<std::string>();
+    if (!is_name_key(kv.first)) {
+      // load_yaml_file refuses such a file; a tree built otherwise is flagged, not thrown on.
+      error(path.empty() ? "(top level)" : path, "has a key that is not a name (line " +
+                                                     std::to_string(kv.first.Mark().line + 1) +
+                                                     "): every key must be a plain scalar");
+      continue;
+    }
+    const auto k = kv.first.Scalar();
     if (known.count(k)) continue;
     std::string hint;
     for (const auto& cand : known) {

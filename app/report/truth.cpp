@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "app/core/yaml_load.h"
+
 namespace chatterlab::app {
 
 void add_truth_row(TruthComparison& c, const std::string& q, const std::string& src, double truth,
@@ -21,28 +23,27 @@ double truth_number(const YAML::Node& n, const char* key) {
 
 YAML::Node load_truth(const CampaignSpec& c) {
   if (!c.has_truth) return {};
-  try {
-    return YAML::LoadFile(c.truth_file.string());
-  } catch (const YAML::Exception&) {
-    return {};
-  }
+  // A refused truth.yaml (compare_with_truth warns with the reason) gives no known values.
+  std::vector<std::string> errors;
+  const YAML::Node n = load_yaml_file(c.truth_file, "truth.yaml", &errors);
+  return n ? n : YAML::Node();
 }
 
 TruthComparison compare_with_truth(const CampaignResults& r) {
   TruthComparison c;
   if (!r.campaign.has_truth) return c;
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(r.campaign.truth_file.string());
-  } catch (const YAML::Exception& e) {
-    c.warnings.push_back(std::string("truth.yaml: not valid YAML (") + e.what() + ")");
+  std::vector<std::string> errors;
+  const YAML::Node root = load_yaml_file(r.campaign.truth_file, "truth.yaml", &errors);
+  if (!root) {
+    c.warnings.insert(c.warnings.end(), errors.begin(), errors.end());
     return c;
   }
   c.present = true;
   const YAML::Node tests = root["tests"];
   if (!tests || !tests.IsMap()) return c;
   for (const auto& kv : tests) {
-    const auto key = kv.first.as<std::string>();
+    if (!is_name_key(kv.first)) continue;  // refused by load_yaml_file already
+    const auto key = kv.first.Scalar();
     const YAML::Node entry = kv.second;
     const TruthInput in{&root, &entry, &r};
     for (const auto& t : r.tests) {

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "analysis/common/summary.h"
+#include "app/core/yaml_load.h"
 #include "app/core/yaml_reader.h"
 
 namespace chatterlab::app {
@@ -60,12 +61,7 @@ std::vector<double> per_tooth(const YAML::Node& map, const std::string& key, int
 
 SimulationSpec load_simulation_spec(const std::filesystem::path& file) {
   const std::string label = file.filename().string();
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(file.string());
-  } catch (const YAML::Exception& e) {
-    throw InputError(label + ": cannot read (" + std::string(e.what()) + ")");
-  }
+  const YAML::Node root = load_yaml_file_or_throw(file, label);
   YamlReader r(label);
   SimulationSpec s;
   if (!root.IsMap()) throw InputError(label + ": must be a YAML mapping of keys");

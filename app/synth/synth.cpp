@@ -10,6 +10,7 @@
 #include "analysis/common/constants.h"
 #include "analysis/common/seed.h"
 #include "analysis/common/summary.h"
+#include "app/core/yaml_load.h"
 #include "app/core/yaml_reader.h"
 #include "app/pipeline/registry.h"
 
@@ -129,12 +130,7 @@ SynthSummary synthesize_campaign(const std::filesystem::path& spec_yaml,
                                  const std::filesystem::path& out_dir,
                                  const std::function<void()>& before_writing) {
   const std::string label = spec_yaml.filename().string();
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(spec_yaml.string());
-  } catch (const YAML::Exception& e) {
-    throw InputError(label + ": cannot read (" + std::string(e.what()) + ")");
-  }
+  const YAML::Node root = load_yaml_file_or_throw(spec_yaml, label);
   YamlReader r(label);
   std::set<std::string> keys = {"format", "name",      "description", "seed",
                                 "tool",   "workpiece", "machine"};
