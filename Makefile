@@ -1,10 +1,10 @@
-# chatterlab: make demo | make test | make build | make bench
+# chatterlab: make demo | make test | make build | make bench | make sanitize
 MAKEFLAGS += --no-print-directory
 BUILD ?= build
 JOBS ?= $(shell nproc)
 CAMPAIGN ?= experiments/demo
 
-.PHONY: deps build test demo bench format clean
+.PHONY: deps build test demo bench sanitize format clean
 
 deps:
 	@bash scripts/install-deps.sh
@@ -24,6 +24,20 @@ demo: build
 	  rm -rf $(CAMPAIGN) && $(BUILD)/chatterlab synth experiments/demo.synth.yaml --out $(CAMPAIGN); fi
 	@$(BUILD)/chatterlab report $(CAMPAIGN) --out reports/demo
 	@echo "Report written to reports/demo/index.html and reports/demo/report.pdf"
+
+# The suite under AddressSanitizer and UndefinedBehaviorSanitizer, with Eigen's assertions on
+# (a Debug build: no NDEBUG; -O1 keeps it fast enough), built by clang in its own folder with
+# the libFuzzer targets (docs/testing.md#the-sanitizer-build). CI runs it after `make test`.
+ASAN_BUILD ?= build-asan
+$(ASAN_BUILD)/CMakeCache.txt:
+	@CC=clang CXX=clang++ cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug \
+	  "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g" -DCHATTERLAB_SANITIZE=ON -DCHATTERLAB_FUZZ=ON \
+	  -DCHATTERLAB_WERROR=OFF -DCHATTERLAB_BENCHMARKS=OFF >/dev/null
+
+sanitize: deps $(ASAN_BUILD)/CMakeCache.txt
+	@cmake --build $(ASAN_BUILD) -j $(JOBS)
+	@cd $(ASAN_BUILD) && LSAN_OPTIONS=suppressions=$(CURDIR)/fuzz/lsan.supp \
+	  ctest --output-on-failure -j $(JOBS)
 
 bench: deps $(BUILD)/CMakeCache.txt
 	@cmake --build $(BUILD) -j $(JOBS) --target chatterlab_bench

@@ -2,15 +2,17 @@
 # Builds the libFuzzer targets of fuzz/ in build-fuzz/ (clang, ASan, UBSan) and runs each one
 # after the other, printing its executions and executions per second (docs/fuzzing.md).
 #
-#   scripts/fuzz.sh [-t seconds | -r runs] [-j jobs] [target ...]
+#   scripts/fuzz.sh [-t seconds | -r runs] [-j jobs] [-b build] [target ...]
 #
 #   -t seconds  run each target for this long (-max_total_time; default 60)
 #   -r runs     run each target for this many inputs (-runs) instead
 #   -j jobs     build parallelism (default 2)
+#   -b build    build folder (default build-fuzz; `make sanitize` configures build-asan with
+#               the fuzz targets, which CI fuzzes briefly); configured here when absent
 #   target      campaign test_yaml signals uff58 frf_text matfile (default: all)
 #
 # Each target starts from its seed corpus fuzz/corpus/<target>/ (read only) and keeps what it
-# finds in build-fuzz/fuzz-corpus/<target>/; crashes go to build-fuzz/fuzz-artifacts/<target>/.
+# finds in <build>/fuzz-corpus/<target>/; crashes go to <build>/fuzz-artifacts/<target>/.
 # Runs under nice -n 19, one target at a time. Exit status 1 when a target failed.
 set -euo pipefail
 
@@ -19,12 +21,13 @@ build="$root/build-fuzz"
 seconds=60
 runs=""
 jobs=2
-while getopts "t:r:j:h" opt; do
+while getopts "t:r:j:b:h" opt; do
   case "$opt" in
     t) seconds="$OPTARG" ;;
     r) runs="$OPTARG" ;;
     j) jobs="$OPTARG" ;;
-    *) sed -n '2,15p' "$0"; exit 2 ;;
+    b) build="$(cd "$(dirname "$OPTARG")" && pwd)/$(basename "$OPTARG")" ;;
+    *) sed -n '2,17p' "$0"; exit 2 ;;
   esac
 done
 shift $((OPTIND - 1))

@@ -12,6 +12,7 @@ PACKAGES=(
   libmatio-dev
   libssl-dev weasyprint qpdf poppler-utils fonts-dejavu-core
   python3-jsonschema chromium
+  clang libclang-rt-dev
 )
 
 missing=()
