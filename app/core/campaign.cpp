@@ -17,6 +17,8 @@ namespace {
 
 constexpr double kMm = 1e-3;
 const char* kCampaignFormat = "chatterlab-campaign/1";
+// tool.teeth: a milling tool, a slitting saw at most (docs/format/campaign.md).
+constexpr long kMaxTeeth = 500;
 
 YAML::Node load_yaml(const fs::path& file, const std::string& label,
                      std::vector<std::string>* errors) {
@@ -269,11 +271,8 @@ CampaignSpec load_campaign(const fs::path& root_in, const KindRegistry& kinds) {
       } else {
         r.check_keys(tool, {"teeth", "radius_mm", "helix_deg"}, "tool");
         ToolSpec ts;
-        const double teeth = r.required_double(tool, "teeth", "tool");
-        if (!(teeth >= 1) || teeth != std::floor(teeth)) {
-          if (!std::isnan(teeth)) r.error("tool.teeth", "must be a whole number >= 1");
-        }
-        ts.teeth = std::isnan(teeth) ? 0 : static_cast<int>(teeth);
+        ts.teeth =
+            static_cast<int>(r.required_int(tool, "teeth", "tool", 1, kMaxTeeth).value_or(0));
         ts.radius_m = r.required_double(tool, "radius_mm", "tool") * kMm;
         if (!(ts.radius_m > 0) && !std::isnan(ts.radius_m))
           r.error("tool.radius_mm", "must be > 0");

@@ -2,18 +2,26 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 #include "app/core/yaml_load.h"
 
 namespace chatterlab::app {
 namespace {
 
+// A number in *out (possibly not finite: .inf, .nan, or 1e400 read as infinity).
 bool as_double(const YAML::Node& n, double* out) {
   if (!n.IsScalar()) return false;
   try {
     *out = n.as<double>();
   } catch (const YAML::Exception&) {
-    return false;
+    // libstdc++ fails on an out-of-range value such as 1e400: read it as an infinity so that it
+    // is refused as non-finite rather than as "not a number".
+    const std::string& t = n.Scalar();
+    char* end = nullptr;
+    const double v = std::strtod(t.c_str(), &end);
+    if (t.empty() || end == nullptr || *end != '\0' || std::isfinite(v)) return false;
+    *out = v;
   }
   return true;
 }
@@ -89,10 +97,7 @@ double YamlReader::required_double(const YAML::Node& map, const std::string& key
     return std::nan("");
   }
   double v = 0;
-  if (!as_double(n, &v)) {
-    error(key_path(path, key), "must be a number, got " + describe(n));
-    return std::nan("");
-  }
+  if (!number(n, key_path(path, key), "a number", &v)) return std::nan("");
   return v;
 }
 
@@ -115,11 +120,51 @@ std::optional<double> YamlReader::optional_double(const YAML::Node& map, const s
   const YAML::Node n = map.IsMap() ? map[key] : YAML::Node();
   if (!n) return std::nullopt;
   double v = 0;
-  if (!as_double(n, &v)) {
-    error(key_path(path, key), "must be a number, got " + describe(n));
+  if (!number(n, key_path(path, key), "a number", &v)) return std::nullopt;
+  return v;
+}
+
+bool YamlReader::number(const YAML::Node& n, const std::string& kp, const std::string& expected,
+                        double* out) {
+  if (!as_double(n, out)) {
+    error(kp, "must be " + expected + ", got " + describe(n));
+    return false;
+  }
+  if (!std::isfinite(*out)) {
+    error(kp, "must be a finite number, got " + describe(n));
+    return false;
+  }
+  return true;
+}
+
+std::optional<long> YamlReader::whole_in_range(const YAML::Node& n, const std::string& kp, long min,
+                                               long max) {
+  const std::string range =
+      "a whole number from " + std::to_string(min) + " to " + std::to_string(max);
+  double v = 0;
+  if (!number(n, kp, range, &v)) return std::nullopt;
+  if (v != std::floor(v) || v < static_cast<double>(min) || v > static_cast<double>(max)) {
+    error(kp, "must be " + range + ", got " + describe(n));
     return std::nullopt;
   }
-  return v;
+  return static_cast<long>(v);
+}
+
+std::optional<long> YamlReader::optional_int(const YAML::Node& map, const std::string& key,
+                                             const std::string& path, long min, long max) {
+  const YAML::Node n = map.IsMap() ? map[key] : YAML::Node();
+  if (!n) return std::nullopt;
+  return whole_in_range(n, key_path(path, key), min, max);
+}
+
+std::optional<long> YamlReader::required_int(const YAML::Node& map, const std::string& key,
+                                             const std::string& path, long min, long max) {
+  const YAML::Node n = map.IsMap() ? map[key] : YAML::Node();
+  if (!n) {
+    error(key_path(path, key), missing_message(map, key));
+    return std::nullopt;
+  }
+  return whole_in_range(n, key_path(path, key), min, max);
 }
 
 std::optional<std::string> YamlReader::optional_string(const YAML::Node& map,
@@ -144,6 +189,11 @@ std::optional<std::pair<double, double>> YamlReader::optional_pair(const YAML::N
     error(key_path(path, key), "must be a list of two numbers [a, b], got " + describe(n));
     return std::nullopt;
   }
+  if (!std::isfinite(a) || !std::isfinite(b)) {
+    error(key_path(path, key), "must be a list of two finite numbers [a, b], got [" +
+                                   n[0].Scalar() + ", " + n[1].Scalar() + "]");
+    return std::nullopt;
+  }
   return std::make_pair(a, b);
 }
 
@@ -153,8 +203,7 @@ std::optional<std::pair<double, double>> YamlReader::optional_number_or_pair(
   if (!n) return std::nullopt;
   double a = 0;
   if (n.IsScalar()) {
-    if (!as_double(n, &a)) {
-      error(key_path(path, key), "must be a number or a list [start, end], got " + describe(n));
+    if (!number(n, key_path(path, key), "a number or a list [start, end]", &a)) {
       return std::nullopt;
     }
     return std::make_pair(a, a);

@@ -15,6 +15,7 @@ class YamlReader {
  public:
   explicit YamlReader(std::string file_label) : file_(std::move(file_label)) {}
 
+  // Numbers are finite: .inf, .nan or a value beyond the double range (1e400) is an error.
   // Required keys: a missing key or a wrong type is an error; the default is returned.
   double required_double(const YAML::Node& map, const std::string& key,
                          const std::string& path = "");
@@ -25,6 +26,12 @@ class YamlReader {
                                         const std::string& path = "");
   std::optional<std::string> optional_string(const YAML::Node& map, const std::string& key,
                                              const std::string& path = "");
+  // Whole numbers in [min, max] (both stated in the message): a fraction, a non-number, a
+  // non-finite number or a value outside the range is an error and gives nullopt.
+  std::optional<long> optional_int(const YAML::Node& map, const std::string& key,
+                                   const std::string& path, long min, long max);
+  std::optional<long> required_int(const YAML::Node& map, const std::string& key,
+                                   const std::string& path, long min, long max);
   // A number or a two-element list [a, b]; one number gives {a, a}.
   std::optional<std::pair<double, double>> optional_number_or_pair(const YAML::Node& map,
                                                                    const std::string& key,
@@ -49,6 +56,11 @@ class YamlReader {
  private:
   std::string key_path(const std::string& path, const std::string& key) const;
   std::string missing_message(const YAML::Node& map, const std::string& key) const;
+  // A finite number in *out, or an error naming what is expected (`expected`, e.g. "a number").
+  bool number(const YAML::Node& n, const std::string& key_path, const std::string& expected,
+              double* out);
+  std::optional<long> whole_in_range(const YAML::Node& n, const std::string& key_path, long min,
+                                     long max);
 
   std::string file_;
   std::vector<std::string> errors_;

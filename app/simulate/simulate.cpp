@@ -119,6 +119,8 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
                  const SimulateOptions& options, std::ostream& log) {
   const auto t0 = std::chrono::steady_clock::now();
   const SimulationSpec spec = load_simulation_spec(spec_file);
+  // Ignored (misspelt) keys are said before the run starts, and kept in results.json.
+  for (const auto& w : spec.warnings) log << "chatterlab simulate: warning: " << w << "\n";
   const milling::SimulationOptions o = simulation_options(spec);
   const milling::SimulationGrid grid = milling::simulation_grid(o);
 
@@ -148,7 +150,6 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
   results["steps_per_s"] = sim.runtime_s > 0 ? static_cast<double>(sim.steps) / sim.runtime_s : 0.0;
   results["spec_sha256"] = sha256_file(spec_file);
   std::vector<std::string> warnings = spec.warnings;
-  for (const auto& w : spec.warnings) log << "chatterlab simulate: warning: " << w << "\n";
 
   std::optional<dynamics::BifurcationResult> bif;
   std::vector<dynamics::PoincareMap> maps;

@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "analysis/common/summary.h"
@@ -12,6 +13,13 @@ namespace chatterlab::app {
 namespace {
 
 constexpr double kMm = 1e-3;
+// Bounds of the spec, stated in docs/format/simulation.md (every count read is bounded so that a
+// typo cannot start a run of days or exhaust memory).
+constexpr long kMaxTeeth = 500;
+constexpr long kMaxRevolutions = 1000000;
+constexpr long kMaxStepsPerTooth = 100000;
+constexpr double kMaxSteps = 1e9;  // revolutions x teeth x steps_per_tooth
+constexpr std::size_t kMaxPoincareDepths = 100;
 
 ModalParameters read_modal(const YAML::Node& n, YamlReader& r, const std::string& path) {
   r.check_keys(n, {"m_kg", "c_kg_s", "k_N_m"}, path);
@@ -38,8 +46,18 @@ std::vector<double> per_tooth(const YAML::Node& map, const std::string& key, int
   try {
     if (n.IsScalar()) {
       v.assign(static_cast<std::size_t>(std::max(teeth, 1)), n.as<double>());
+      if (!std::isfinite(v.front()))
+        r.error(path, "must be a finite number, got '" + n.Scalar() + "'");
     } else if (n.IsSequence()) {
-      for (const auto& e : n) v.push_back(e.as<double>());
+      if (n.size() > static_cast<std::size_t>(kMaxTeeth)) {
+        r.error(path, "has " + std::to_string(n.size()) + " values: at most " +
+                          std::to_string(kMaxTeeth) + " (one per tooth)");
+        return {};
+      }
+      for (const auto& e : n) {
+        v.push_back(e.as<double>());
+        if (!std::isfinite(v.back())) r.error(path, "values must be finite numbers");
+      }
       if (teeth > 0 && static_cast<int>(v.size()) != teeth) {
         r.error(path, "has " + std::to_string(v.size()) +
                           " values: give one number or one per tooth (" + std::to_string(teeth) +
@@ -77,11 +95,8 @@ SimulationSpec load_simulation_spec(const std::filesystem::path& file) {
     r.error("tool", "must be {teeth, radius_mm}");
   } else {
     r.check_keys(tool, {"teeth", "radius_mm", "helix_deg"}, "tool");
-    const double teeth = r.required_double(tool, "teeth", "tool");
-    if (!(teeth >= 1) || teeth != std::floor(teeth)) {
-      r.error("tool.teeth", "must be a whole number >= 1");
-    } else {
-      s.teeth = static_cast<int>(teeth);
+    if (const auto teeth = r.required_int(tool, "teeth", "tool", 1, kMaxTeeth)) {
+      s.teeth = static_cast<int>(*teeth);
     }
     s.radius_m = r.required_double(tool, "radius_mm", "tool") * kMm;
     if (!(s.radius_m > 0)) r.error("tool.radius_mm", "must be > 0");
@@ -133,12 +148,8 @@ SimulationSpec load_simulation_spec(const std::filesystem::path& file) {
       r.error("cut.axial_depth_mm", "is missing");
     }
     s.revolutions_per_mm = r.optional_double(cut, "revolutions_per_mm", "cut");
-    if (auto n = r.optional_double(cut, "revolutions", "cut")) {
-      if (!(*n >= 1) || *n != std::floor(*n)) {
-        r.error("cut.revolutions", "must be a whole number >= 1");
-      } else {
-        s.revolutions = static_cast<int>(*n);
-      }
+    if (auto n = r.optional_int(cut, "revolutions", "cut", 1, kMaxRevolutions)) {
+      s.revolutions = static_cast<int>(*n);
     }
     const bool ramp = s.depth_start_m != s.depth_end_m;
     if (ramp && !s.revolutions_per_mm) {
@@ -168,11 +179,19 @@ SimulationSpec load_simulation_spec(const std::filesystem::path& file) {
   if (s.euler_order != "velocity-first" && s.euler_order != "position-first") {
     r.error("euler_order", "must be velocity-first or position-first, got '" + s.euler_order + "'");
   }
-  const double spt = r.optional_double(root, "steps_per_tooth").value_or(800);
-  if (!(spt >= 8) || spt != std::floor(spt)) {
-    r.error("steps_per_tooth", "must be a whole number >= 8");
-  } else {
-    s.steps_per_tooth = static_cast<int>(spt);
+  s.steps_per_tooth = static_cast<int>(
+      r.optional_int(root, "steps_per_tooth", "", 8, kMaxStepsPerTooth).value_or(800));
+  // The run's length: revolutions (constant depth) or the ramp's revolutions.
+  double revs = s.revolutions ? static_cast<double>(*s.revolutions) : 0.0;
+  if (s.revolutions_per_mm && std::isfinite(*s.revolutions_per_mm)) {
+    revs = std::max(revs, std::abs(s.depth_end_m - s.depth_start_m) / kMm * *s.revolutions_per_mm);
+  }
+  const double steps = revs * std::max(s.teeth, 1) * s.steps_per_tooth;
+  if (steps > kMaxSteps) {
+    r.error("cut", "asks for " + std::to_string(static_cast<long long>(revs)) + " revolutions, " +
+                       std::to_string(steps) +
+                       " integration steps (revolutions x teeth x steps_per_tooth): at most " +
+                       std::to_string(static_cast<long long>(kMaxSteps)) + " are simulated");
   }
   if (const YAML::Node in = root["inertial"]; in) {
     r.check_keys(in, {"enabled", "eccentricity_m", "eccentricity_angle_rad"}, "inertial");
@@ -189,10 +208,17 @@ SimulationSpec load_simulation_spec(const std::filesystem::path& file) {
     if (!p.IsSequence()) {
       r.error("poincare_depths_mm", "must be a list of depths in mm");
     } else {
+      if (p.size() > kMaxPoincareDepths) {
+        r.error("poincare_depths_mm", "has " + std::to_string(p.size()) + " depths: at most " +
+                                          std::to_string(kMaxPoincareDepths));
+      }
       try {
         for (const auto& e : p) s.poincare_depths_m.push_back(e.as<double>() * kMm);
       } catch (const YAML::Exception&) {
         r.error("poincare_depths_mm", "must be a list of depths in mm");
+      }
+      for (double d : s.poincare_depths_m) {
+        if (!std::isfinite(d)) r.error("poincare_depths_mm", "must be finite numbers");
       }
     }
   }

@@ -10,6 +10,13 @@
 #include "app/synth/synth.h"
 
 namespace chatterlab::app {
+namespace {
+
+// campaign.yaml estimation: bounds stated in docs/format/campaign.md ("What the reader refuses").
+constexpr long kMaxPasses = 100;      // identification passes (the default settles in a few)
+constexpr long kMaxRepeatRuns = 100;  // repeatability runs, each a whole estimation (default 10)
+
+}  // namespace
 
 using nlohmann::json;
 
@@ -109,12 +116,17 @@ std::shared_ptr<const KindSpec> CutKind::parse_campaign_block(const std::string&
       r.error("estimation.settle_revolutions", "must be >= 0");
     }
   }
-  if (const auto v = whole("max_passes", 1)) o.max_passes = static_cast<int>(*v);
+  if (const auto v = r.optional_int(e, "max_passes", "estimation", 1, kMaxPasses)) {
+    o.max_passes = static_cast<int>(*v);
+  }
   if (const auto v = r.optional_double(e, "repeat_runs", "estimation")) {
-    if (*v == 0 || (*v >= 2 && *v == std::floor(*v) && *v < 1e6)) {
+    // Each run repeats the whole estimation: bounded so that a typo cannot hang the report.
+    if (*v == 0 || (*v >= 2 && *v == std::floor(*v) && *v <= kMaxRepeatRuns)) {
       o.repeat.runs = static_cast<int>(*v);
     } else {
-      r.error("estimation.repeat_runs", "must be 0 (no repeatability runs) or a whole number >= 2");
+      r.error("estimation.repeat_runs",
+              "must be 0 (no repeatability runs) or a whole number >= 2 (at most " +
+                  std::to_string(kMaxRepeatRuns) + "), got '" + e["repeat_runs"].Scalar() + "'");
     }
   }
   if (const auto v = r.optional_double(e, "repeat_spread", "estimation")) {

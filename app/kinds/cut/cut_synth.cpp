@@ -83,9 +83,10 @@ CutSynthSpec read_cut_synth(const YAML::Node& n, const SynthContext& ctx, YamlRe
       s.out_of_round_m.push_back(v * 1e-6);
     }
   }
-  s.air_revolutions =
-      static_cast<int>(r.optional_double(n, "air_revolutions", p).value_or(s.air_revolutions));
-  if (s.air_revolutions < 2) r.error("cut.air_revolutions", "must be >= 2");
+  // Revolutions in air before the cut (docs/format/synth-spec.md): 2 to 1000.
+  constexpr long kMaxAirRevolutions = 1000;
+  s.air_revolutions = static_cast<int>(
+      r.optional_int(n, "air_revolutions", p, 2, kMaxAirRevolutions).value_or(s.air_revolutions));
   const double per_rev = s.fs_hz * 60.0 / s.spindle_rpm;
   if (!(std::abs(per_rev - std::round(per_rev)) <= 1e-9 * per_rev) || per_rev < 15.5) {
     r.error("cut.sample_rate_hz", "sample_rate_hz * 60 / spindle_rpm = " + synth_number(per_rev) +

@@ -530,6 +530,20 @@ std::string SifsCutKind::note(const TestOutcome& out) const {
   return n;
 }
 
+namespace {
+
+// Element i of a truth.yaml list as a number, NaN when absent or not a number.
+double truth_element(const YAML::Node& list, std::size_t i) {
+  if (!list.IsSequence() || i >= list.size()) return std::nan("");
+  try {
+    return list[i].as<double>();
+  } catch (const YAML::Exception&) {
+    return std::nan("");
+  }
+}
+
+}  // namespace
+
 void SifsCutKind::compare_truth(const TruthInput& in, const TestOutcome& out,
                                 TruthComparison& c) const {
   const auto& r = out.result_of<SifsCutResult>();
@@ -566,10 +580,14 @@ void SifsCutKind::compare_truth(const TruthInput& in, const TestOutcome& out,
         const auto& ax = r.axes[static_cast<std::size_t>(a)];
         int shown = 0;
         for (std::size_t i = 0; i < hl.size() && shown < 3; ++i) {
-          const int h = hl[i].as<int>();
+          // truth.yaml values that are no whole harmonic or no number compare with nothing
+          // (never an exception: truth_number gives NaN for them).
+          const double hv = truth_element(hl, i);
+          if (!(std::abs(hv) <= 1000) || hv != std::floor(hv)) continue;
+          const int h = static_cast<int>(hv);
           for (std::size_t k = 0; k < ax.harmonics.size(); ++k) {
             if (ax.harmonics[k] != h || h % std::max(1, r.teeth) != 0) continue;
-            const double amp = std::hypot(re[i].as<double>(), im[i].as<double>());
+            const double amp = std::hypot(truth_element(re, i), truth_element(im, i));
             add_truth_row(c,
                           std::string("harmonic.") + axes[a] + ".h" + std::to_string(h) +
                               ".compensated_amp_N",

@@ -7,6 +7,7 @@
 #include "analysis/common/summary.h"
 #include "analysis/frf/modal_response.h"
 #include "app/core/signals.h"
+#include "app/core/yaml_load.h"
 #include "app/kinds/tap/tap_step.h"
 
 namespace chatterlab::app {
@@ -17,7 +18,9 @@ TapSynthSpec read_tap_synth(const YAML::Node& n, YamlReader& r) {
                 "pulse_width_s", "axes"},
                "tap");
   s.fs_hz = r.optional_double(n, "sample_rate_hz", "tap").value_or(s.fs_hz);
-  s.hits = static_cast<int>(r.optional_double(n, "hits", "tap").value_or(s.hits));
+  // Bounds stated in docs/format/synth-spec.md: a tap record of at most kMaxHits hits.
+  constexpr long kMaxHits = 100;
+  s.hits = static_cast<int>(r.optional_int(n, "hits", "tap", 1, kMaxHits).value_or(s.hits));
   s.hit_spacing_s = r.optional_double(n, "hit_spacing_s", "tap").value_or(s.hit_spacing_s);
   s.response = r.optional_string(n, "response", "tap").value_or(s.response);
   s.noise_pct = r.optional_double(n, "noise_pct", "tap").value_or(s.noise_pct);
@@ -35,14 +38,20 @@ TapSynthSpec read_tap_synth(const YAML::Node& n, YamlReader& r) {
     return s;
   }
   for (const auto& kv : axes) {
-    const auto axis = kv.first.as<std::string>();
+    if (!is_name_key(kv.first)) {
+      r.error("tap.axes", "has a key that is not an axis name (x or y)");
+      continue;
+    }
+    const auto axis = kv.first.Scalar();
     const std::string path = "tap.axes." + axis;
     if (axis != "x" && axis != "y") {
       r.error(path, "axis must be x or y");
       continue;
     }
     TapAxisSynth a;
-    a.double_hit = static_cast<int>(r.optional_double(kv.second, "double_hit", path).value_or(0));
+    // 0: no double hit; else the 1-based hit that bounces.
+    a.double_hit =
+        static_cast<int>(r.optional_int(kv.second, "double_hit", path, 0, kMaxHits).value_or(0));
     const YAML::Node modes = kv.second["modes"];
     if (!modes || !modes.IsSequence() || modes.size() == 0) {
       r.error(path + ".modes", "must be a non-empty list of {m_kg, c_kg_s, k_N_m}");
