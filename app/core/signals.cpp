@@ -852,6 +852,36 @@ std::vector<std::string> missing_channels(const SignalTable& table,
   return out;
 }
 
+std::vector<std::string> unmatched_channel_keys(const SignalTable& table,
+                                                const std::vector<std::string>& required,
+                                                const std::map<std::string, ChannelSpec>& channels,
+                                                const std::string& yaml_label) {
+  std::vector<std::string> out;
+  std::vector<std::string> known = table.names();
+  known.insert(known.end(), required.begin(), required.end());
+  for (const auto& [name, cal] : channels) {
+    if (cal.column || cal.record || cal.variable) continue;  // mapped: checked by column_of
+    if (table.has(name) || std::find(required.begin(), required.end(), name) != required.end()) {
+      continue;
+    }
+    std::string best;
+    int best_d = 1 << 20;
+    for (const auto& k : known) {
+      const int d = edit_distance(lower(k), lower(name));
+      if ((looks_like(k, name) || lower(k) == lower(name)) && d < best_d) {
+        best_d = d;
+        best = k;
+      }
+    }
+    std::string msg = yaml_label + ": key 'channels." + name + "' names no channel of " +
+                      table.label() + " (channels: " + joined(table.names()) +
+                      ") and no channel the test uses: its calibration would be ignored";
+    if (!best.empty()) msg += " (did you mean '" + best + "'?)";
+    out.push_back(msg);
+  }
+  return out;
+}
+
 void write_signals(const std::filesystem::path& file, const std::vector<std::string>& names,
                    const std::vector<const Eigen::VectorXd*>& columns) {
   const auto ext = file.extension().string();

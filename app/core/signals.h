@@ -103,6 +103,16 @@ std::vector<std::string> missing_channels(const SignalTable& table,
                                           const std::map<std::string, ChannelSpec>& channels,
                                           const std::string& what);
 
+// test.yaml `channels.<name>` entries that calibrate nothing: <name> is neither a channel of
+// `table` nor one of `required`, and the entry maps no column, record or variable to it (a
+// misspelt channel name). One message each, naming `yaml_label`, the key and the closest
+// channel name of the file or the test. The test is not usable with them (a silently ignored
+// calibration gives wrong numbers).
+std::vector<std::string> unmatched_channel_keys(const SignalTable& table,
+                                                const std::vector<std::string>& required,
+                                                const std::map<std::string, ChannelSpec>& channels,
+                                                const std::string& yaml_label);
+
 // Writes channels as CSV (header row of names) or raw .f32/.f64 (by the file's extension).
 // Used by `synth`; throws InputError on I/O failure.
 void write_signals(const std::filesystem::path& file, const std::vector<std::string>& names,

@@ -304,6 +304,11 @@ void check_signals(TestSpec& t, const KindRegistry& kinds) {
          missing_channels(table, kind->required_channels(t), t.channels, "a " + t.kind + " test")) {
       t.errors.push_back(std::move(e));
     }
+    // A calibration under a misspelt channel name is an error, not silently ignored.
+    for (auto& e :
+         unmatched_channel_keys(table, kind->required_channels(t), t.channels, t.yaml_label)) {
+      t.errors.push_back(std::move(e));
+    }
     const double duration = static_cast<double>(table.samples()) / t.sample_rate_hz;
     for (auto& e : kind->check_record(t, duration)) t.errors.push_back(std::move(e));
   } catch (const InputError& e) {
