@@ -3,7 +3,9 @@
 #include <filesystem>
 #include <iostream>
 #include <sstream>
+#include <streambuf>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "analysis/common/summary.h"
@@ -24,16 +26,48 @@ int usage_error(const std::string& what, const std::string& command) {
   return chatterlab::app::kExitUsage;
 }
 
-// Writes the output folder's manifest when the command ends, also through an exception: a
-// folder left half-written is still recognised (and cleared) as chatterlab's by the next run.
-struct ManifestOnExit {
-  const chatterlab::app::OutputFolder& folder;
-  ~ManifestOnExit() {
-    try {
-      folder.write_manifest();
-    } catch (...) {
-    }
+// A stream that passes on what it is given a line at a time, with every `from` replaced by
+// `to`: the commands write into the temporary folder beside --out (app/cli/output_folder.h), and
+// their messages name --out itself.
+class RewritingBuf : public std::streambuf {
+ public:
+  RewritingBuf(std::ostream& to, std::string from, std::string with)
+      : to_(to), from_(std::move(from)), with_(std::move(with)) {}
+  ~RewritingBuf() override { emit(); }
+
+ protected:
+  int overflow(int c) override {
+    if (c == traits_type::eof()) return 0;
+    line_ += static_cast<char>(c);
+    if (c == '\n') emit();
+    return c;
   }
+  int sync() override {
+    emit();
+    to_.flush();
+    return 0;
+  }
+
+ private:
+  void emit() {
+    if (line_.empty()) return;
+    to_ << rewrite(line_, from_, with_);
+    line_.clear();
+  }
+
+ public:
+  static std::string rewrite(std::string s, const std::string& from, const std::string& with) {
+    if (from.empty()) return s;
+    for (std::size_t at = s.find(from); at != std::string::npos;
+         at = s.find(from, at + with.size())) {
+      s.replace(at, from.size(), with);
+    }
+    return s;
+  }
+
+ private:
+  std::ostream& to_;
+  std::string from_, with_, line_;
 };
 
 // Whether `out` is the folder `campaign` or one of its parents.
@@ -76,6 +110,8 @@ int main(int argc, char** argv) {
   // --quiet: stdout gets nothing (a stream without a buffer drops what it is given).
   std::ostream quiet_stream(nullptr);
   std::ostream& log = line.quiet ? quiet_stream : std::cout;
+  // The temporary folder a command writes into and --out, as messages show them.
+  std::string work_shown, out_shown;
   try {
     if (cmd == "validate") {
       if (positional.size() != 1) return usage_error("validate takes one campaign folder", cmd);
@@ -93,17 +129,31 @@ int main(int argc, char** argv) {
       if (out_holds(out, positional[0])) {
         throw chatterlab::InputError(
             "--out " + out +
-            ": is the campaign folder or holds it; the report would remove the campaign's "
-            "files (a synth campaign lists them as chatterlab's): choose another --out");
+            ": is the campaign folder or holds it; the report would replace the campaign's "
+            "files: choose another --out");
       }
-      // Refused before any work when --out is not ours; the previous run's files go once
-      // the campaign was read.
-      auto folder = chatterlab::app::OutputFolder::open(out);
+      if (out_holds(positional[0], out)) {
+        throw chatterlab::InputError(
+            "--out " + out +
+            ": is inside the campaign folder; the report would be written into the campaign it "
+            "reads: choose a folder outside it");
+      }
+      // Refused before any work when --out is not ours; the report is written into a
+      // temporary folder that replaces --out once it is complete.
+      chatterlab::app::OutputFolder folder(out);
+      work_shown = folder.work().string();
+      out_shown = folder.dir().string();
+      RewritingBuf log_buf(log, work_shown, out_shown), err_buf(std::cerr, work_shown, out_shown);
+      std::ostream log_out(&log_buf), err_out(&err_buf);
       report_options.progress = !line.quiet;
-      report_options.errors = &std::cerr;
-      report_options.before_writing = [&folder] { folder.clear_previous(); };
-      const ManifestOnExit manifest{folder};
-      return chatterlab::app::run_report(positional[0], out, report_options, log);
+      report_options.errors = &err_out;
+      // A campaign that cannot be read at all returns before writing: --out stays as it was.
+      bool written = false;
+      report_options.before_writing = [&written] { written = true; };
+      const int rc =
+          chatterlab::app::run_report(positional[0], folder.work(), report_options, log_out);
+      if (written) folder.commit();
+      return rc;
     }
     if (cmd == "simulate") {
       if (positional.size() != 1 || out.empty()) {
@@ -113,14 +163,22 @@ int main(int argc, char** argv) {
       so.pdf = report_options.pdf;
       so.report = !results_only;
       so.jobs = report_options.jobs;
-      auto folder = chatterlab::app::OutputFolder::open(out);
-      folder.clear_previous();
-      const ManifestOnExit manifest{folder};
+      chatterlab::app::OutputFolder folder(out);
+      work_shown = folder.work().string();
+      out_shown = folder.dir().string();
       // Quiet: the summary is dropped, and what run_simulate said goes to stderr when it
       // failed (it names the PDF error or the divergence there).
       std::ostringstream held;
-      const int rc = chatterlab::app::run_simulate(
-          positional[0], out, so, line.quiet ? static_cast<std::ostream&>(held) : std::cout);
+      int rc = 0;
+      {
+        RewritingBuf buf(line.quiet ? static_cast<std::ostream&>(held) : std::cout, work_shown,
+                         out_shown);
+        std::ostream sim_log(&buf);
+        rc = chatterlab::app::run_simulate(positional[0], folder.work(), so, sim_log);
+      }
+      // A run that diverged or whose PDF failed still wrote its report (exit 1): it replaces
+      // the previous one; a spec error (an exception) leaves --out as it was.
+      folder.commit();
       if (line.quiet && rc != 0) std::cerr << held.str();
       return rc;
     }
@@ -129,23 +187,31 @@ int main(int argc, char** argv) {
         return usage_error("synth takes one spec file and --out <campaign>", cmd);
       }
       // As report and simulate: a folder that is not chatterlab's is refused before any work;
-      // the earlier run's files go once the spec has been read (a bad spec changes nothing).
-      auto folder = chatterlab::app::OutputFolder::open(out);
-      const ManifestOnExit manifest{folder};
-      const auto s = chatterlab::app::synthesize_campaign(positional[0], out,
-                                                          [&folder] { folder.clear_previous(); });
-      for (const auto& w : s.warnings) std::cerr << "chatterlab synth: warning: " << w << "\n";
+      // the campaign is written into a temporary folder that replaces --out once complete (a
+      // bad spec changes nothing).
+      chatterlab::app::OutputFolder folder(out);
+      work_shown = folder.work().string();
+      out_shown = folder.dir().string();
+      const auto s = chatterlab::app::synthesize_campaign(positional[0], folder.work());
+      folder.commit();
+      for (const auto& w : s.warnings) {
+        std::cerr << "chatterlab synth: warning: "
+                  << RewritingBuf::rewrite(w, work_shown, out_shown) << "\n";
+      }
       log << "synth: wrote campaign '" << s.campaign_name << "' with " << s.tests_written
           << " tests to " << out << "\n";
       return chatterlab::app::kExitOk;
     }
   } catch (const chatterlab::InputError& e) {
-    std::cerr << "chatterlab " << cmd << ": " << e.what() << "\n";
+    std::cerr << "chatterlab " << cmd << ": "
+              << RewritingBuf::rewrite(e.what(), work_shown, out_shown) << "\n";
     return chatterlab::app::kExitInputError;
   } catch (const std::exception& e) {
     // Not bad input: a bug or a broken invariant (exit status 3, as `report` uses for a test
     // that stopped on one).
-    std::cerr << "chatterlab " << cmd << ": internal error: " << e.what() << "\n";
+    std::cerr << "chatterlab " << cmd
+              << ": internal error: " << RewritingBuf::rewrite(e.what(), work_shown, out_shown)
+              << "\n";
     return chatterlab::app::kExitInternalError;
   }
   return usage_error("unknown command '" + cmd + "'", "");

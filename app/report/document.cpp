@@ -3,6 +3,7 @@
 #include <ctime>
 #include <fstream>
 
+#include "app/cli/output_folder.h"
 #include "app/report/html_pages.h"
 #include "render/html_to_pdf.h"
 #include "render/mustache_template.h"
@@ -32,10 +33,9 @@ std::string utc_timestamp() {
 
 namespace {
 
+// Every step checked (app/cli/output_folder.h): throws InputError naming the file.
 void write_text(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream file(path, std::ios::binary);
-  file << text;
-  if (!file) throw render::RenderError("cannot write " + path.string());
+  write_file_checked(path, text);
 }
 
 }  // namespace

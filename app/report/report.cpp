@@ -7,11 +7,13 @@
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <thread>
 #include <vector>
 
 #include "analysis/common/library_versions.h"
 #include "app/cli/exit_codes.h"
+#include "app/cli/output_folder.h"
 #include "app/cli/progress.h"
 #include "app/core/format.h"
 #include "app/git_commit.h"
@@ -65,6 +67,22 @@ void add_anchors(json& j, const std::map<std::string, std::string>& ids) {
   }
 }
 
+// test_anchor of every test's id, made unique ("-2", "-3", ... after the first): ids such as
+// "a/b" and "a-b" would share one.
+std::map<std::string, std::string> unique_test_anchors(const CampaignResults& r) {
+  std::map<std::string, std::string> anchors;
+  std::set<std::string> used;
+  for (const auto& t : r.tests) {
+    if (anchors.count(t.spec->id) > 0) continue;
+    const std::string base = test_anchor(t.spec->id);
+    std::string a = base;
+    for (int n = 2; used.count(a) > 0; ++n) a = base + "-" + std::to_string(n);
+    used.insert(a);
+    anchors[t.spec->id] = a;
+  }
+  return anchors;
+}
+
 // The kinds' sections in registry order, each rendered from templates/kinds/<name>.html with
 // the context its kind gives, and the nested table of contents: each section's entries, the
 // first with the tests whose sections carry their anchor as children. Returns the anchors of
@@ -74,11 +92,12 @@ std::map<std::string, std::string> kind_sections(const CampaignResults& r, const
   const auto tdir = templates_dir();
   json sections = json::array(), toc = json::array();
   std::map<std::string, std::string> anchored;
+  const std::map<std::string, std::string> unique = unique_test_anchors(r);
   const auto add = [&](const std::string& name, json section,
                        const std::vector<const TestOutcome*>& tests) {
     if (section.is_null()) return;
     std::map<std::string, std::string> ids;
-    for (const TestOutcome* t : tests) ids[t->spec->id] = test_anchor(t->spec->id);
+    for (const TestOutcome* t : tests) ids[t->spec->id] = unique.at(t->spec->id);
     add_anchors(section, ids);
     const std::string html =
         render::render_template_file(tdir / "kinds" / (name + ".html"), section);
@@ -317,10 +336,9 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
     json results = results_json(r, truth, figures);
     results["campaign"] = results_campaign_name(c);
     results["results_csv"] = "results.csv";
-    std::ofstream js(out / "results.json");
-    js << results.dump(2) << "\n";
-    std::ofstream csv(out / "results.csv");
-    csv << results_table_csv(results);
+    // Checked: a failed write throws, naming the file, and nothing says it was written.
+    write_file_checked(out / "results.json", results.dump(2) + "\n");
+    write_file_checked(out / "results.csv", results_table_csv(results));
   }
   if (options.progress && options.pdf) log << "report: writing report.pdf" << std::endl;
   const bool pdf_written = write_documents(
