@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <set>
 
 #include "analysis/common/summary.h"
 #include "app/core/parallel.h"
@@ -92,32 +93,53 @@ void write_figure_csv(const render::Figure& figure, const std::filesystem::path&
   if (!out) throw InputError(file.filename().string() + ": write failed");
 }
 
+std::vector<std::string> unique_figure_stems(const std::vector<std::string>& stems) {
+  std::set<std::string> taken(stems.begin(), stems.end());
+  std::set<std::string> used;
+  std::vector<std::string> out;
+  out.reserve(stems.size());
+  for (const auto& stem : stems) {
+    std::string s = stem;
+    for (int n = 2; used.count(s) > 0; ++n) {
+      s = stem + "-" + std::to_string(n);
+      if (taken.count(s) > 0) s = stem;  // another figure's own stem: try the next number
+    }
+    used.insert(s);
+    out.push_back(s);
+  }
+  return out;
+}
+
 FigureSet FigureJobs::draw(const std::filesystem::path& out, int jobs) const {
   std::vector<std::string> errors(jobs_.size());
   std::vector<std::string> data_errors(jobs_.size());
+  // Two tests whose ids give the same stem ("a/b" and "a-b") must not share a file.
+  std::vector<std::string> stems;
+  for (const auto& j : jobs_) stems.push_back(j.stem);
+  stems = unique_figure_stems(stems);
   parallel_for(jobs_.size(), jobs, [&](std::size_t i) {
     try {
-      const std::filesystem::path csv = out / (jobs_[i].stem + ".csv");
+      const std::filesystem::path csv = out / (stems[i] + ".csv");
       std::filesystem::create_directories(csv.parent_path());
-      write_figure_csv(jobs_[i].figure, csv, jobs_[i].stem);
+      write_figure_csv(jobs_[i].figure, csv, stems[i]);
     } catch (const std::exception& e) {
-      data_errors[i] = "data of figure " + jobs_[i].stem + " not written: " + e.what();
+      data_errors[i] = "data of figure " + stems[i] + " not written: " + e.what();
     }
     try {
-      render::render_report_figure(jobs_[i].figure, out / jobs_[i].stem);
+      render::render_report_figure(jobs_[i].figure, out / stems[i]);
     } catch (const std::exception& e) {
-      errors[i] = "figure " + jobs_[i].stem + " not drawn: " + e.what();
+      errors[i] = "figure " + stems[i] + " not drawn: " + e.what();
     }
   });
   FigureSet set;
   for (std::size_t i = 0; i < jobs_.size(); ++i) {
     if (data_errors[i].empty()) {
-      set.data[jobs_[i].owner][jobs_[i].key] = jobs_[i].stem + ".csv";
+      set.data[jobs_[i].owner][jobs_[i].key] = stems[i] + ".csv";
     } else {
       set.errors.push_back(data_errors[i]);
     }
     if (errors[i].empty()) {
-      set.stems[jobs_[i].owner][jobs_[i].key] = jobs_[i].stem;
+      set.stems[jobs_[i].owner][jobs_[i].key] = stems[i];
     } else {
       set.errors.push_back(errors[i]);
     }

@@ -56,6 +56,11 @@ class FigureJobs {
 void write_figure_csv(const render::Figure& figure, const std::filesystem::path& file,
                       const std::string& title);
 
+// The stems to draw `stems` (in order) to: each as it is, but a stem already used by an earlier
+// one gets "-2", "-3", ... (the first number that no figure uses), so that no two figures share
+// a file.
+std::vector<std::string> unique_figure_stems(const std::vector<std::string>& stems);
+
 // "figures/<prefix>-<id with / as ->-": the stem prefix of a test's figures ("root" for the
 // campaign root's test).
 std::string figure_stem(const std::string& prefix, const std::string& id);

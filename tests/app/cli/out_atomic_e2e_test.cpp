@@ -1,0 +1,322 @@
+// The --out folder as the chatterlab binary uses it (docs/cli.md#the-output-folder, issue 16
+// "Output"): a report killed with SIGKILL at a random moment leaves either the previous report
+// or the new one, never a mix, and nothing outside --out but the temporary folder and the lock
+// beside it; a report whose results.json cannot be written fails naming it and leaves the
+// previous report as it was; a second run on a locked folder, an --out inside the campaign and
+// an --out that is a symbolic link are refused; two tests whose ids give the same figure stem
+// get a figure file each.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/file.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "app/cli/exit_codes.h"
+#include "app/cli/output_folder.h"
+#include "tests/app/cli/run_binary.h"
+#include "tests/support/synth_spec.h"
+#include "tests/support/temp_campaign.h"
+
+extern char** environ;
+
+namespace chatterlab::app {
+namespace {
+
+namespace fs = std::filesystem;
+using chatterlab::testing::BinaryRun;
+using chatterlab::testing::file_text;
+using chatterlab::testing::quoted;
+using chatterlab::testing::TempDir;
+using nlohmann::json;
+using Files = std::vector<std::string>;
+
+BinaryRun run(const std::string& args, const TempDir& d) {
+  return chatterlab::testing::run_chatterlab(args, d.path());
+}
+
+Files names_in(const fs::path& dir) {
+  Files out;
+  for (const auto& e : fs::directory_iterator(dir)) out.push_back(e.path().filename().string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+Files manifest_lines(const fs::path& dir) {
+  std::ifstream in(dir / kManifestName);
+  Files listed;
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty() && line[0] != '#') listed.push_back(line);
+  }
+  return listed;
+}
+
+// Sets campaign.yaml's `name:` line.
+void rename_campaign(const fs::path& campaign, const std::string& name) {
+  std::ifstream in(campaign / "campaign.yaml");
+  std::string text, line;
+  while (std::getline(in, line))
+    text += (line.rfind("name:", 0) == 0 ? "name: " + name : line) + "\n";
+  in.close();
+  std::ofstream(campaign / "campaign.yaml") << text;
+}
+
+// `chatterlab report <campaign> --out <out> --no-pdf --quiet` as a child in a process group of
+// its own (its helpers die with it), its streams on /dev/null.
+pid_t spawn_report(const fs::path& campaign, const fs::path& out) {
+  const std::string bin = CHATTERLAB_BINARY, c = campaign.string(), o = out.string();
+  std::vector<char*> argv = {const_cast<char*>(bin.c_str()), const_cast<char*>("report"),
+                             const_cast<char*>(c.c_str()),   const_cast<char*>("--out"),
+                             const_cast<char*>(o.c_str()),   const_cast<char*>("--no-pdf"),
+                             const_cast<char*>("--quiet"),   const_cast<char*>("--jobs"),
+                             const_cast<char*>("2"),         nullptr};
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+  posix_spawnattr_t attr;
+  posix_spawnattr_init(&attr);
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP);
+  posix_spawnattr_setpgroup(&attr, 0);
+  pid_t pid = -1;
+  const int rc = posix_spawn(&pid, bin.c_str(), &actions, &attr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  posix_spawnattr_destroy(&attr);
+  return rc == 0 ? pid : -1;
+}
+
+// One synth campaign for the suite (2 tap tests, 3 dyno-slot tests, the dyno-slot group).
+class CliOut : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new TempDir;
+    chatterlab::testing::SynthSpecText spec;
+    spec.tap_hits = 2;
+    spec.dyno_duration_s = 0.5;
+    dir_->write("spec.yaml", spec.text());
+    const BinaryRun s = chatterlab::testing::run_chatterlab(
+        "synth " + quoted(dir_->path() / "spec.yaml") + " --out " + quoted(campaign()) + " --quiet",
+        dir_->path());
+    ASSERT_EQ(s.status, 0) << s.err;
+  }
+  static void TearDownTestSuite() {
+    delete dir_;
+    dir_ = nullptr;
+  }
+  static fs::path campaign() { return dir_->path() / "campaign"; }
+  // A copy of the campaign in `d`, to change.
+  static fs::path copy_campaign(const TempDir& d) {
+    const fs::path c = d.path() / "campaign";
+    fs::copy(campaign(), c, fs::copy_options::recursive);
+    fs::remove(c / kManifestName);
+    return c;
+  }
+
+  static TempDir* dir_;
+};
+TempDir* CliOut::dir_ = nullptr;
+
+TEST_F(CliOut, KilledReportLeavesThePreviousOrTheNewOneNeverAMix) {
+  TempDir src, dst;  // the campaign, and the parent of --out (nothing else in it)
+  const fs::path c = copy_campaign(src);
+  const fs::path out = dst.path() / "out";
+  const Files campaign_files = files_below(c);
+
+  rename_campaign(c, "kill-0");
+  const auto t0 = std::chrono::steady_clock::now();
+  const BinaryRun first =
+      run("report " + quoted(c) + " --out " + quoted(out) + " --no-pdf --quiet --jobs 2", src);
+  const double duration =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_EQ(first.status, kExitOk) << first.err;
+  std::ofstream(out / "notes.txt") << "the user's\n";
+  std::string previous_json = file_text(out / "results.json");
+  std::string previous_name = "kill-0";
+  Files previous_files = files_below(out);
+
+  std::mt19937 rng(20261202);
+  std::uniform_real_distribution<double> delay(0.3 * duration, 1.3 * duration);
+  int kept_previous = 0, got_new = 0;
+  for (int i = 1; i <= 8; ++i) {
+    SCOPED_TRACE("kill " + std::to_string(i));
+    const std::string name = "kill-" + std::to_string(i);
+    rename_campaign(c, name);
+    const pid_t pid = spawn_report(c, out);
+    ASSERT_GT(pid, 0);
+    std::this_thread::sleep_for(std::chrono::duration<double>(delay(rng)));
+    ::kill(-pid, SIGKILL);
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+
+    ASSERT_TRUE(fs::is_directory(fs::symlink_status(out)));
+    EXPECT_EQ(file_text(out / "notes.txt"), "the user's\n");
+    Files files = files_below(out);
+    // Every file of the manifest present, and nothing else but the manifest and the user's.
+    Files expected = manifest_lines(out);
+    expected.push_back(kManifestName);
+    expected.push_back("notes.txt");
+    std::sort(expected.begin(), expected.end());
+    EXPECT_EQ(files, expected);
+    const std::string results = file_text(out / "results.json");
+    const std::string index = file_text(out / "index.html");
+    if (results == previous_json) {
+      ++kept_previous;
+      EXPECT_EQ(files, previous_files);
+      EXPECT_NE(index.find(previous_name), std::string::npos);
+    } else {
+      ++got_new;
+      const json j = json::parse(results);
+      EXPECT_EQ(j.value("campaign", ""), name);
+      EXPECT_NE(index.find(name), std::string::npos);
+      EXPECT_EQ(index.find(previous_name), std::string::npos);
+      previous_json = results;
+      previous_name = name;
+      previous_files = files;
+    }
+    // Beside --out: only the lock and temporary folders, which the next run removes.
+    for (const auto& n : names_in(dst.path())) {
+      EXPECT_TRUE(n == "out" || n == ".out.chatterlab-lock" ||
+                  n.rfind(".out.chatterlab-tmp-", 0) == 0)
+          << n;
+    }
+    EXPECT_EQ(files_below(c), campaign_files);  // nothing written into the campaign
+  }
+  std::cout << "SIGKILL: one run " << duration << " s; " << kept_previous
+            << " kills left the previous report, " << got_new << " the new one\n";
+
+  // A run to its end: the stale temporary folders are gone, the report is the new one.
+  rename_campaign(c, "kill-end");
+  const BinaryRun last =
+      run("report " + quoted(c) + " --out " + quoted(out) + " --no-pdf --quiet --jobs 2", src);
+  ASSERT_EQ(last.status, kExitOk) << last.err;
+  EXPECT_EQ(names_in(dst.path()), (Files{".out.chatterlab-lock", "out"}));
+  EXPECT_EQ(json::parse(file_text(out / "results.json")).value("campaign", ""), "kill-end");
+  EXPECT_EQ(file_text(out / "notes.txt"), "the user's\n");
+}
+
+// results.json that cannot be written (a file size limit, SIGXFSZ ignored: the write fails with
+// EFBIG): exit 1 naming the file under --out, nothing said to be written, the previous report
+// as it was, no temporary folder left.
+TEST_F(CliOut, AFailedWriteLeavesThePreviousReport) {
+  TempDir d;
+  const fs::path out = d.path() / "o";
+  const BinaryRun first =
+      run("report " + quoted(campaign()) + " --out " + quoted(out) + " --no-pdf --quiet", d);
+  ASSERT_EQ(first.status, kExitOk) << first.err;
+  const std::string before = file_text(out / "results.json");
+  const Files before_files = files_below(out);
+  ASSERT_GT(before.size(), 8192u);
+
+  const std::string cmd = "trap '' XFSZ; ulimit -f 8; exec " + quoted(CHATTERLAB_BINARY) +
+                          " report " + quoted(campaign()) + " --out " + quoted(out) +
+                          " --no-pdf > " + quoted(d.path() / "stdout.txt") + " 2> " +
+                          quoted(d.path() / "stderr.txt");
+  std::ofstream(d.path() / "run.sh") << cmd << "\n";
+  const int rc = std::system(("sh " + quoted(d.path() / "run.sh")).c_str());
+  ASSERT_TRUE(WIFEXITED(rc));
+  EXPECT_EQ(WEXITSTATUS(rc), kExitInputError);
+  const std::string err = file_text(d.path() / "stderr.txt");
+  EXPECT_NE(err.find("chatterlab report: cannot write " + (out / "results.json").string() + ": "),
+            std::string::npos)
+      << err;
+  EXPECT_EQ(file_text(d.path() / "stdout.txt").find("wrote"), std::string::npos);
+  EXPECT_EQ(file_text(out / "results.json"), before);
+  EXPECT_EQ(files_below(out), before_files);
+  EXPECT_EQ(names_in(d.path()),
+            (Files{".o.chatterlab-lock", "o", "run.sh", "stderr.txt", "stdout.txt"}));
+}
+
+TEST_F(CliOut, ASecondRunOnALockedFolderIsRefusedAtOnce) {
+  TempDir d;
+  const fs::path out = d.path() / "o";
+  const int fd = ::open((d.path() / ".o.chatterlab-lock").c_str(), O_RDWR | O_CREAT, 0644);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);  // as a running report holds it
+  const BinaryRun r =
+      run("report " + quoted(campaign()) + " --out " + quoted(out) + " --no-pdf --quiet", d);
+  ::close(fd);
+  EXPECT_EQ(r.status, kExitInputError);
+  EXPECT_NE(r.err.find("chatterlab report: --out " + out.string() +
+                       ": another chatterlab run is writing this folder"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(out));
+  const BinaryRun after =
+      run("report " + quoted(campaign()) + " --out " + quoted(out) + " --no-pdf --quiet", d);
+  EXPECT_EQ(after.status, kExitOk) << after.err;
+}
+
+TEST_F(CliOut, AnOutInsideTheCampaignOrALinkIsRefused) {
+  TempDir d;
+  const fs::path c = copy_campaign(d);
+  const Files before = files_below(c);
+  const BinaryRun inside =
+      run("report " + quoted(c) + " --out " + quoted(c / "reports/r") + " --no-pdf --quiet", d);
+  EXPECT_EQ(inside.status, kExitInputError);
+  EXPECT_NE(inside.err.find("is inside the campaign folder"), std::string::npos) << inside.err;
+  EXPECT_EQ(files_below(c), before);
+  EXPECT_FALSE(fs::exists(c / "reports"));
+
+  const BinaryRun first =
+      run("report " + quoted(c) + " --out " + quoted(d.path() / "real") + " --no-pdf --quiet", d);
+  ASSERT_EQ(first.status, kExitOk) << first.err;
+  const std::string results = file_text(d.path() / "real/results.json");
+  fs::create_directory_symlink(d.path() / "real", d.path() / "link");
+  const BinaryRun link =
+      run("report " + quoted(c) + " --out " + quoted(d.path() / "link") + " --no-pdf --quiet", d);
+  EXPECT_EQ(link.status, kExitInputError);
+  EXPECT_NE(link.err.find("is a symbolic link"), std::string::npos) << link.err;
+  EXPECT_TRUE(fs::is_symlink(fs::symlink_status(d.path() / "link")));
+  EXPECT_EQ(file_text(d.path() / "real/results.json"), results);
+}
+
+// Test ids "tap/x" and "tap-x" both give the stem figures/tap-tap-x-: each gets its own files,
+// and its own anchor in the report.
+TEST_F(CliOut, TwoTestsWhoseIdsGiveOneFigureStemGetAFileEach) {
+  TempDir d;
+  const fs::path c = copy_campaign(d);
+  fs::copy(c / "tap/x", c / "tap-x", fs::copy_options::recursive);
+  const BinaryRun r =
+      run("report " + quoted(c) + " --out " + quoted(d.path() / "o") + " --no-pdf --quiet", d);
+  ASSERT_EQ(r.status, kExitOk) << r.err;
+  const fs::path o = d.path() / "o";
+  EXPECT_TRUE(fs::exists(o / "figures/tap-tap-x-frf.svg"));
+  EXPECT_TRUE(fs::exists(o / "figures/tap-tap-x-frf-2.svg"));
+  EXPECT_TRUE(fs::exists(o / "figures/tap-tap-x-frf-2.csv"));
+  // Each test's results name a different figure.
+  const json j = json::parse(file_text(o / "results.json"));
+  std::vector<std::string> frf_files;
+  const std::function<void(const json&)> collect = [&](const json& v) {
+    if (v.is_string()) {
+      const std::string s = v.get<std::string>();
+      if (s.rfind("figures/tap-tap-x-frf", 0) == 0) frf_files.push_back(s);
+    } else if (v.is_structured()) {
+      for (const auto& e : v) collect(e);
+    }
+  };
+  collect(j);
+  std::sort(frf_files.begin(), frf_files.end());
+  EXPECT_TRUE(std::adjacent_find(frf_files.begin(), frf_files.end()) == frf_files.end());
+  EXPECT_NE(std::find(frf_files.begin(), frf_files.end(), "figures/tap-tap-x-frf-2.svg"),
+            frf_files.end());
+  const std::string index = file_text(o / "index.html");
+  EXPECT_NE(index.find("id=\"test-tap-x\""), std::string::npos);
+  EXPECT_NE(index.find("id=\"test-tap-x-2\""), std::string::npos);
+}
+
+}  // namespace
+}  // namespace chatterlab::app
