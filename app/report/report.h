@@ -22,7 +22,8 @@ struct ReportOptions {
   // no test analysed): the CLI's stderr. nullptr: `log`.
   std::ostream* errors = nullptr;
   // Called once, after the campaign was read and before the first file is written to `out`
-  // (the CLI removes the previous run's files there: app/cli/output_folder.h).
+  // (the CLI puts `out`, a temporary folder, in the place of --out only when it was called:
+  // app/cli/output_folder.h).
   std::function<void()> before_writing;
 };
 
