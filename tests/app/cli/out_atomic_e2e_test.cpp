@@ -240,6 +240,34 @@ TEST_F(CliOut, AFailedWriteLeavesThePreviousReport) {
             (Files{".o.chatterlab-lock", "o", "run.sh", "stderr.txt", "stdout.txt"}));
 }
 
+// A campaign or spec that cannot be read: exit 1, the previous output as it was, no temporary
+// folder left beside it.
+TEST_F(CliOut, AnUnreadableCampaignOrSpecLeavesThePreviousOutput) {
+  TempDir d;
+  const fs::path out = d.path() / "o";
+  const BinaryRun first =
+      run("report " + quoted(campaign()) + " --out " + quoted(out) + " --no-pdf --quiet", d);
+  ASSERT_EQ(first.status, kExitOk) << first.err;
+  const std::string before = file_text(out / "results.json");
+  const Files before_files = files_below(out);
+  fs::create_directories(d.path() / "nothing");
+  const BinaryRun none =
+      run("report " + quoted(d.path() / "nothing") + " --out " + quoted(out) + " --no-pdf", d);
+  EXPECT_EQ(none.status, kExitInputError);
+  d.write("bad.yaml", "format: chatterlab-simulation/1\n");
+  const BinaryRun sim =
+      run("simulate " + quoted(d.path() / "bad.yaml") + " --out " + quoted(out), d);
+  EXPECT_EQ(sim.status, kExitInputError);
+  d.write("bad-synth.yaml", "format: chatterlab-synth/1\n");
+  const BinaryRun syn =
+      run("synth " + quoted(d.path() / "bad-synth.yaml") + " --out " + quoted(out), d);
+  EXPECT_EQ(syn.status, kExitInputError);
+  EXPECT_EQ(file_text(out / "results.json"), before);
+  EXPECT_EQ(files_below(out), before_files);
+  EXPECT_EQ(names_in(d.path()), (Files{".o.chatterlab-lock", "bad-synth.yaml", "bad.yaml",
+                                       "nothing", "o", "stderr.txt", "stdout.txt"}));
+}
+
 TEST_F(CliOut, ASecondRunOnALockedFolderIsRefusedAtOnce) {
   TempDir d;
   const fs::path out = d.path() / "o";
