@@ -150,7 +150,7 @@ TEST_F(CliOut, KilledReportLeavesThePreviousOrTheNewOneNeverAMix) {
 
   std::mt19937 rng(20261202);
   std::uniform_real_distribution<double> delay(0.3 * duration, 1.3 * duration);
-  int kept_previous = 0, got_new = 0;
+  int kept_previous = 0, got_new = 0, killed_writing = 0;
   for (int i = 1; i <= 8; ++i) {
     SCOPED_TRACE("kill " + std::to_string(i));
     const std::string name = "kill-" + std::to_string(i);
@@ -188,15 +188,19 @@ TEST_F(CliOut, KilledReportLeavesThePreviousOrTheNewOneNeverAMix) {
       previous_files = files;
     }
     // Beside --out: only the lock and temporary folders, which the next run removes.
+    bool left_temp = false;
     for (const auto& n : names_in(dst.path())) {
+      left_temp = left_temp || n.rfind(".out.chatterlab-tmp-", 0) == 0;
       EXPECT_TRUE(n == "out" || n == ".out.chatterlab-lock" ||
                   n.rfind(".out.chatterlab-tmp-", 0) == 0)
           << n;
     }
     EXPECT_EQ(files_below(c), campaign_files);  // nothing written into the campaign
+    if (left_temp) ++killed_writing;
   }
   std::cout << "SIGKILL: one run " << duration << " s; " << kept_previous
-            << " kills left the previous report, " << got_new << " the new one\n";
+            << " kills left the previous report, " << got_new << " the new one; " << killed_writing
+            << " left a temporary folder beside --out\n";
 
   // A run to its end: the stale temporary folders are gone, the report is the new one.
   rename_campaign(c, "kill-end");
