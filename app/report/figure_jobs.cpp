@@ -90,6 +90,7 @@ void write_figure_csv(const render::Figure& figure, const std::filesystem::path&
       }
     }
   }
+  out.close();  // checked after closing: buffered data written only then can fail too
   if (!out) throw InputError(file.filename().string() + ": write failed");
 }
 
