@@ -26,14 +26,41 @@ int usage_error(const std::string& what, const std::string& command) {
   return chatterlab::app::kExitUsage;
 }
 
-// A stream that passes on what it is given a line at a time, with every `from` replaced by
-// `to`: the commands write into the temporary folder beside --out (app/cli/output_folder.h), and
-// their messages name --out itself.
+// A stream buffer that passes on what it is given a line at a time, with every `from` replaced
+// by `with`: the commands write into the temporary folder beside --out
+// (app/cli/output_folder.h), and their messages name --out itself. The line that says what was
+// written ("...; wrote out/index.html, results.json ...") and every line after it are held
+// until release(): they are passed on then, the "wrote" line only when the output did replace
+// --out (not when that failed).
 class RewritingBuf : public std::streambuf {
  public:
   RewritingBuf(std::ostream& to, std::string from, std::string with)
       : to_(to), from_(std::move(from)), with_(std::move(with)) {}
-  ~RewritingBuf() override { emit(); }
+  ~RewritingBuf() override {
+    emit();
+    release(false);
+  }
+  RewritingBuf(const RewritingBuf&) = delete;
+  RewritingBuf& operator=(const RewritingBuf&) = delete;
+
+  void release(bool replaced) {
+    emit();
+    for (const auto& l : held_) {
+      if (replaced || l.find("; wrote ") == std::string::npos) to_ << l;
+    }
+    held_.clear();
+    holding_ = false;
+    to_.flush();
+  }
+
+  static std::string rewrite(std::string s, const std::string& from, const std::string& with) {
+    if (from.empty()) return s;
+    for (std::size_t at = s.find(from); at != std::string::npos;
+         at = s.find(from, at + with.size())) {
+      s.replace(at, from.size(), with);
+    }
+    return s;
+  }
 
  protected:
   int overflow(int c) override {
@@ -51,23 +78,20 @@ class RewritingBuf : public std::streambuf {
  private:
   void emit() {
     if (line_.empty()) return;
-    to_ << rewrite(line_, from_, with_);
+    std::string l = rewrite(line_, from_, with_);
     line_.clear();
-  }
-
- public:
-  static std::string rewrite(std::string s, const std::string& from, const std::string& with) {
-    if (from.empty()) return s;
-    for (std::size_t at = s.find(from); at != std::string::npos;
-         at = s.find(from, at + with.size())) {
-      s.replace(at, from.size(), with);
+    holding_ = holding_ || l.find("; wrote ") != std::string::npos;
+    if (holding_) {
+      held_.push_back(std::move(l));
+    } else {
+      to_ << l;
     }
-    return s;
   }
 
- private:
   std::ostream& to_;
   std::string from_, with_, line_;
+  bool holding_ = false;
+  std::vector<std::string> held_;
 };
 
 // Whether `out` is the folder `campaign` or one of its parents.
@@ -153,6 +177,7 @@ int main(int argc, char** argv) {
       const int rc =
           chatterlab::app::run_report(positional[0], folder.work(), report_options, log_out);
       if (written) folder.commit();
+      log_buf.release(true);
       return rc;
     }
     if (cmd == "simulate") {
@@ -175,10 +200,11 @@ int main(int argc, char** argv) {
                          out_shown);
         std::ostream sim_log(&buf);
         rc = chatterlab::app::run_simulate(positional[0], folder.work(), so, sim_log);
+        // A run that diverged or whose PDF failed still wrote its report (exit 1): it replaces
+        // the previous one; a spec error (an exception) leaves --out as it was.
+        folder.commit();
+        buf.release(true);
       }
-      // A run that diverged or whose PDF failed still wrote its report (exit 1): it replaces
-      // the previous one; a spec error (an exception) leaves --out as it was.
-      folder.commit();
       if (line.quiet && rc != 0) std::cerr << held.str();
       return rc;
     }

@@ -272,6 +272,30 @@ TEST_F(CliOut, AnUnreadableCampaignOrSpecLeavesThePreviousOutput) {
                                        "nothing", "o", "stderr.txt", "stdout.txt"}));
 }
 
+// A user's file that cannot be carried into the new output (a folder of that name is where
+// the new report writes a file): the run fails before the exchange, does not say it wrote the
+// report, and leaves the previous one.
+TEST_F(CliOut, AFailedExchangeIsNotReportedAsWritten) {
+  TempDir d;
+  const fs::path out = d.path() / "o";
+  const BinaryRun first =
+      run("report " + quoted(campaign()) + " --out " + quoted(out) + " --no-pdf --quiet", d);
+  ASSERT_EQ(first.status, kExitOk) << first.err;
+  const std::string before = file_text(out / "results.json");
+  fs::remove(out / "results.csv");
+  d.write("o/results.csv/mine.txt", "the user's\n");  // not listed: the user's
+  const Files before_files = files_below(out);
+  const BinaryRun r =
+      run("report " + quoted(campaign()) + " --out " + quoted(out) + " --no-pdf", d);
+  EXPECT_EQ(r.status, kExitInputError);
+  EXPECT_NE(r.err.find("cannot keep your file results.csv/mine.txt"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("report: 5 tests found"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("wrote"), std::string::npos) << r.out;
+  EXPECT_EQ(file_text(out / "results.json"), before);
+  EXPECT_EQ(files_below(out), before_files);
+  EXPECT_EQ(names_in(d.path()), (Files{".o.chatterlab-lock", "o", "stderr.txt", "stdout.txt"}));
+}
+
 TEST_F(CliOut, ASecondRunOnALockedFolderIsRefusedAtOnce) {
   TempDir d;
   const fs::path out = d.path() / "o";
