@@ -3,6 +3,7 @@
 #include <ctime>
 #include <fstream>
 
+#include "analysis/common/summary.h"
 #include "app/cli/output_folder.h"
 #include "app/report/html_pages.h"
 #include "render/html_to_pdf.h"
@@ -51,8 +52,13 @@ bool write_documents(const std::string& template_name, const nlohmann::json& ctx
                      const std::filesystem::path& out, const DocumentOptions& options,
                      const std::string& command, std::ostream& log) {
   const auto tdir = templates_dir();
+  std::error_code css_error;
   std::filesystem::copy_file(tdir / "report.css", out / "report.css",
-                             std::filesystem::copy_options::overwrite_existing);
+                             std::filesystem::copy_options::overwrite_existing, css_error);
+  if (css_error) {
+    throw InputError("cannot copy " + (tdir / "report.css").string() + " to " +
+                     (out / "report.css").string() + ": " + css_error.message());
+  }
   const std::string html = render::render_template_file(tdir / template_name, ctx);
   const std::string screen = screen_page(html, out);
   write_text(out / "index.html", screen);
