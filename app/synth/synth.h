@@ -72,7 +72,8 @@ void write_synth_yaml(const std::filesystem::path& path, const YAML::Emitter& e)
 
 // Throws InputError naming the spec file and key for a bad spec, before anything is written.
 // `before_writing`, when set, runs once the spec has been read and before the first file is
-// written (the command line clears the earlier run's files there).
+// written (the command line writes into a new temporary folder beside --out and swaps it into
+// place afterwards: app/cli/output_folder.h).
 SynthSummary synthesize_campaign(const std::filesystem::path& spec_yaml,
                                  const std::filesystem::path& out_dir,
                                  const std::function<void()>& before_writing = {});
