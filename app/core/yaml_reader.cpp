@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 #include "app/core/yaml_load.h"
@@ -190,8 +191,14 @@ std::optional<std::pair<double, double>> YamlReader::optional_pair(const YAML::N
     return std::nullopt;
   }
   if (!std::isfinite(a) || !std::isfinite(b)) {
-    error(key_path(path, key), "must be a list of two finite numbers [a, b], got [" +
-                                   n[0].Scalar() + ", " + n[1].Scalar() + "]");
+    // Worded as the cut kind's windows always were (%g: nan, inf, 1e+300).
+    const auto g = [](double v) {
+      char buf[32];
+      std::snprintf(buf, sizeof(buf), "%g", v);
+      return std::string(buf);
+    };
+    error(key_path(path, key),
+          "must be two finite numbers [start, end], got [" + g(a) + ", " + g(b) + "]");
     return std::nullopt;
   }
   return std::make_pair(a, b);

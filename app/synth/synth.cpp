@@ -73,19 +73,16 @@ std::optional<SynthTool> read_tool(const YAML::Node& n, YamlReader& r) {
   r.check_keys(n, {"teeth", "radius_mm", "helix_deg"}, "tool");
   const std::size_t errors_before = r.errors().size();
   SynthTool t;
-  const double teeth = r.required_double(n, "teeth", "tool");
+  // As campaign.yaml's tool.teeth (docs/format/campaign.md): 1 to 500.
+  const auto teeth = r.required_int(n, "teeth", "tool", 1, 500);
   t.radius_mm = r.required_double(n, "radius_mm", "tool");
   t.helix_deg = r.optional_double(n, "helix_deg", "tool");
   if (r.errors().size() != errors_before) return std::nullopt;
-  if (!(teeth >= 1) || teeth != std::floor(teeth)) {
-    r.error("tool.teeth", "must be a whole number >= 1");
-    return std::nullopt;
-  }
   if (!(t.radius_mm > 0)) {
     r.error("tool.radius_mm", "must be > 0");
     return std::nullopt;
   }
-  t.teeth = static_cast<int>(teeth);
+  t.teeth = static_cast<int>(*teeth);
   return t;
 }
 

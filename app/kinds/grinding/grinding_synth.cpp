@@ -142,7 +142,9 @@ GrindingTestSynth read_test(const YAML::Node& t, const std::string& path, YamlRe
         GrindingDressingSynth x;
         const double before = r.required_double(d[k], "before_cycle", dp);
         if (before != std::floor(before)) r.error(dp + ".before_cycle", "must be a whole cycle");
-        x.before_cycle = static_cast<int>(before);
+        // Out of int range (1e300) or missing (NaN): -1, refused below as outside 2..cycles.
+        x.before_cycle =
+            std::isfinite(before) && std::abs(before) <= 1e6 ? static_cast<int>(before) : -1;
         x.depth_mm = r.required_double(d[k], "depth_mm", dp);
         x.true_depth_mm = r.optional_double(d[k], "true_depth_mm", dp).value_or(x.depth_mm);
         if (x.before_cycle < 2 || x.before_cycle > s.cycles) {
@@ -341,8 +343,8 @@ GrindingSynthSpec read_grinding_synth(const YAML::Node& n, YamlReader& r) {
         g::InfeedStage st;
         st.u_mm_s = r.required_double(sc[k], "u_mm_s", p);
         const double rows = r.required_double(sc[k], "rows", p);
-        if (!(rows >= 1) || rows != std::floor(rows)) {
-          r.error(p + ".rows", "must be a whole number >= 1");
+        if (!(rows >= 1) || rows != std::floor(rows) || rows > 1e6) {
+          r.error(p + ".rows", "must be a whole number >= 1 (at most 1000000)");
         } else {
           st.rows = static_cast<int>(rows);
         }

@@ -199,7 +199,8 @@ TEST(YamlStrict, NonFiniteNumbersAreRefused) {
   EXPECT_FALSE(r.optional_pair(n, "w"));
   EXPECT_FALSE(r.optional_number_or_pair(n, "s"));
   EXPECT_EQ(r.optional_double(n, "ok"), 1.5e300);  // large and finite: a number
-  EXPECT_TRUE(any_contains(r.errors(), "x.yaml: key 'w' must be a list of two finite numbers"));
+  EXPECT_TRUE(any_contains(
+      r.errors(), "x.yaml: key 'w' must be two finite numbers [start, end], got [0, inf]"));
   EXPECT_TRUE(any_contains(r.errors(), "x.yaml: key 's' must be a finite number, got '-.inf'"));
 }
 
@@ -234,6 +235,22 @@ TEST(YamlStrict, TeethOf1e300IsRefusedNotReadAsANegativeInteger) {
                            "campaign.yaml: key 'tool.teeth' must be a whole number "
                            "from 1 to 500, got '1e300'"))
       << all(c.errors);
+}
+
+TEST(YamlStrict, SynthTeethOf1e300IsRefused) {
+  TempDir d;
+  SynthSpecText spec;
+  std::string text = spec.text();
+  text.replace(text.find("teeth: 2"), 8, "teeth: 1e300");
+  try {
+    synthesize_campaign(d.write("spec.yaml", text), d.path() / "out");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "spec.yaml: key 'tool.teeth' must be a whole number from 1 to 500, got '1e300'"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(YamlStrict, RepeatRunsIsBounded) {
@@ -407,8 +424,9 @@ TEST(YamlStrictCampaign, DuplicateKeySkipsOnlyItsTest) {
 }
 
 TEST(YamlStrictCampaign, NonFiniteNumberSkipsOnlyItsTest) {
-  expect_other_test_analysed("band_hz: [0, .inf]\n",
-                             "tap/y/test.yaml: key 'band_hz' must be a list of two finite numbers");
+  expect_other_test_analysed(
+      "band_hz: [0, .inf]\n",
+      "tap/y/test.yaml: key 'band_hz' must be two finite numbers [start, end], got [0, inf]");
 }
 
 TEST(YamlStrictCampaign, MisspeltCalibrationChannelSkipsOnlyItsTest) {
