@@ -28,6 +28,12 @@ std::vector<double> numbers(const YAML::Node& n, const std::string& path, YamlRe
   } catch (const YAML::Exception&) {
     r.error(path, "must be a number or a list of numbers");
   }
+  for (double x : v) {
+    if (!std::isfinite(x)) {
+      r.error(path, "must be finite numbers (.inf and .nan are refused)");
+      return {};
+    }
+  }
   return v;
 }
 

@@ -25,10 +25,21 @@ DynoSynthSpec read_dyno_synth(const YAML::Node& n, YamlReader& r) {
   if (!(d.sensitivity > 0)) r.error("dyno.sensitivity_V_per_N", "must be > 0");
   d.offsets = r.optional_pair(n, "offsets_N", "dyno").value_or(std::make_pair(0.0, 0.0));
   const YAML::Node feeds = n["feeds_mm"];
-  if (!feeds || !feeds.IsSequence() || feeds.size() < 2) {
-    r.error("dyno.feeds_mm", "must be a list of at least two feeds per tooth (mm)");
+  // At most 100 feeds (one test folder each; docs/format/synth-spec.md).
+  constexpr std::size_t kMaxFeeds = 100;
+  if (!feeds || !feeds.IsSequence() || feeds.size() < 2 || feeds.size() > kMaxFeeds) {
+    r.error("dyno.feeds_mm", "must be a list of 2 to 100 feeds per tooth (mm)");
   } else {
-    for (const auto& f : feeds) d.feeds_m.push_back(f.as<double>() * 1e-3);
+    for (std::size_t i = 0; i < feeds.size(); ++i) {
+      double f = 0;
+      if (!feeds[i].IsScalar() || !YAML::convert<double>::decode(feeds[i], f) ||
+          !std::isfinite(f)) {
+        r.error("dyno.feeds_mm", "must be a list of finite numbers (feeds per tooth, mm)");
+        d.feeds_m.clear();
+        break;
+      }
+      d.feeds_m.push_back(f * 1e-3);
+    }
   }
   const YAML::Node k = n["coefficients"];
   if (!k || !k.IsMap()) {
