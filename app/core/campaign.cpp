@@ -23,11 +23,13 @@ constexpr long kMaxTeeth = 500;
 YAML::Node load_yaml(const fs::path& file, const std::string& label,
                      std::vector<std::string>* errors) {
   // Size, non-scalar and duplicate keys, depth: the whole file is refused (app/core/yaml_load.h).
+  // An unusable file gives an undefined node (`!node`): its reasons are the messages, with no
+  // follow-on "key 'kind' must be a string, got null".
   YAML::Node n = load_yaml_file(file, label, errors);
-  if (!n) return YAML::Node();
+  if (!n) return n;
   if (!n.IsMap()) {
     errors->push_back(label + ": must be a YAML mapping of keys");
-    return YAML::Node();
+    return YAML::Node(YAML::NodeType::Undefined);
   }
   return n;
 }
