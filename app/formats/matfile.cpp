@@ -61,7 +61,7 @@ std::string header_problem(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   std::array<unsigned char, 128> h{};
   if (!in.read(reinterpret_cast<char*>(h.data()), static_cast<std::streamsize>(h.size()))) {
-    return "shorter than the 128-byte header of a v5 or v7.3 .mat file";
+    return "not a v5 or v7.3 .mat file (shorter than the 128-byte MAT-file header)";
   }
   const bool text = std::equal(h.begin(), h.begin() + 6, "MATLAB");
   const bool little = h[126] == 'I' && h[127] == 'M';

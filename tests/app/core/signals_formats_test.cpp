@@ -229,11 +229,9 @@ TEST(SignalsFormats, MatChannelsAreVectorsAndMatrixColumns) {
               f.string() + ": variable 'M' is a 3 x 2 matrix: name one of its columns");
   }
   d.write("not.mat", "force,response\n1,2\n");
-  EXPECT_EQ(message_of(spec(d.path() / "not.mat"))
-                .rfind("t/not.mat: not a v5 or v7.3 .mat file (no MAT-file header; v4 files are "
-                       "not read)",
-                       0),
-            0u)
+  EXPECT_EQ(
+      message_of(spec(d.path() / "not.mat")).rfind("t/not.mat: not a v5 or v7.3 .mat file (", 0),
+      0u)
       << message_of(spec(d.path() / "not.mat"));
 }
 

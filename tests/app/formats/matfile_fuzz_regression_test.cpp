@@ -90,7 +90,7 @@ TEST(MatfileFuzzRegression, FilesWithoutAV5OrV73HeaderAreRefusedBeforeLibmatio) 
   damaged[0] = 0x2c;
   expect_refused("damaged-v4.mat", damaged, refused);
   expect_refused("short.mat", "MATLAB 5.0 MAT-file",
-                 ": shorter than the 128-byte header of a v5 or v7.3 .mat file");
+                 ": not a v5 or v7.3 .mat file (shorter than the 128-byte MAT-file header)");
 
   const auto good = dir.path() / "good.mat";
   write_mat(good, {{"M", Eigen::MatrixXd::Ones(3, 2)}});
