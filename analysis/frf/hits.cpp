@@ -29,9 +29,9 @@ void check_inputs(const Eigen::Ref<const Eigen::VectorXd>& force,
     throw InputError("tap force has " + std::to_string(force.size()) + " samples, response " +
                      std::to_string(response.size()) + ": must be equal");
   }
-  if (force.size() < 16) {
+  if (force.size() < kMinTapRecordSamples) {
     throw InputError("tap record has " + std::to_string(force.size()) +
-                     " samples: needs at least 16");
+                     " samples: needs at least " + std::to_string(kMinTapRecordSamples));
   }
   for (Eigen::Index i = 0; i < force.size(); ++i) {
     if (!std::isfinite(force[i]) || !std::isfinite(response[i])) {

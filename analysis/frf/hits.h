@@ -11,6 +11,9 @@
 namespace chatterlab {
 namespace frf {
 
+// The shortest tap record the hit detection takes (samples of force and response).
+inline constexpr int kMinTapRecordSamples = 16;
+
 // Rules, in the order they apply (docs/tap-tests.md explains each default):
 //  1. Baselines: each channel's median is its offset (hits are a tiny part of a record).
 //     Force noise std = 1.4826 * median |f - median(f)| (MAD, blind to the pulses).

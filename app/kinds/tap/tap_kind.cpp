@@ -7,6 +7,7 @@
 #include <set>
 
 #include "analysis/common/constants.h"
+#include "analysis/frf/hits.h"
 #include "analysis/frf/mode.h"
 #include "app/core/format.h"
 #include "app/core/input_boundary.h"
@@ -153,6 +154,17 @@ std::vector<std::string> TapKind::required_channels(const TestSpec& t) const {
   const auto* s = dynamic_cast<const TapSpec*>(t.params.get());
   if (s && s->frf) return {};
   return {"force", "response"};
+}
+
+// The record's length, which the step would refuse (validate and report run this alike).
+std::vector<std::string> TapKind::check_record(const TestSpec& t, double duration_s) const {
+  const double samples = std::round(duration_s * t.sample_rate_hz);
+  if (samples < frf::kMinTapRecordSamples) {
+    return {t.yaml_label + ": key 'data.file' '" + t.data.relative_file + "': the record has " +
+            fmt_sig(samples, 6) + " samples: a tap test needs at least " +
+            std::to_string(frf::kMinTapRecordSamples)};
+  }
+  return {};
 }
 
 std::vector<std::filesystem::path> TapKind::input_files(const TestSpec& t) const {
