@@ -108,6 +108,10 @@ CutSynthSpec read_cut_synth(const YAML::Node& n, const SynthContext& ctx, YamlRe
     r.error("cut.tests", "must be a list of {name, axial_depth_mm, ..., offset_angle_deg}");
     return s;
   }
+  if (tests.size() > 100) {  // one test folder each (docs/format/synth-spec.md)
+    r.error("cut.tests", "has " + std::to_string(tests.size()) + " tests: at most 100");
+    return s;
+  }
   for (std::size_t i = 0; i < tests.size(); ++i) {
     const YAML::Node t = tests[i];
     const std::string tp = "cut.tests[" + std::to_string(i) + "]";

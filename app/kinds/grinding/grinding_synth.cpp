@@ -357,6 +357,10 @@ GrindingSynthSpec read_grinding_synth(const YAML::Node& n, YamlReader& r) {
     r.error("grinding.tests", "must be a non-empty list of {name, cycles, ...}");
     return s;
   }
+  if (tests.size() > 100) {  // one test folder each (docs/format/synth-spec.md)
+    r.error("grinding.tests", "has " + std::to_string(tests.size()) + " tests: at most 100");
+    return s;
+  }
   std::set<std::string> names;
   for (std::size_t k = 0; k < tests.size(); ++k) {
     const std::string path = "grinding.tests[" + std::to_string(k) + "]";

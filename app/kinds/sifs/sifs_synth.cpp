@@ -100,8 +100,8 @@ void read_plant(const YAML::Node& n, const std::string& path, YamlReader& r,
   if (!n) return;
   r.check_keys(n, {"modes"}, path);
   const YAML::Node modes = n["modes"];
-  if (!modes || !modes.IsSequence() || modes.size() == 0) {
-    r.error(path + ".modes", "must be a non-empty list of {fn_hz, zeta, alpha}");
+  if (!modes || !modes.IsSequence() || modes.size() == 0 || modes.size() > 20) {
+    r.error(path + ".modes", "must be a list of 1 to 20 {fn_hz, zeta, alpha}");
     return;
   }
   std::vector<s::SensorMode> v;
