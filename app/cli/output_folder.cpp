@@ -130,26 +130,6 @@ std::vector<std::string> chatterlab_files(const fs::path& dir) {
   return out;
 }
 
-void write_file_checked(const fs::path& path, const std::string& text) {
-  const auto fail = [&](int e) {
-    throw InputError("cannot write " + path.string() + ": " + errno_text(e));
-  };
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | O_NOFOLLOW, 0666);
-  if (fd < 0) fail(errno);
-  std::size_t done = 0;
-  while (done < text.size()) {
-    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      const int e = n < 0 ? errno : EIO;
-      ::close(fd);
-      fail(e);
-    }
-    done += static_cast<std::size_t>(n);
-  }
-  if (::close(fd) != 0) fail(errno);
-}
-
 OutputFolder::OutputFolder(const fs::path& out) {
   dir_ = out.lexically_normal();
   if (dir_.filename().empty() && dir_.has_parent_path()) dir_ = dir_.parent_path();

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "app/core/checked_write.h"
+
 namespace chatterlab::app {
 
 inline constexpr const char* kManifestName = ".chatterlab-files";
@@ -52,11 +54,6 @@ class OutputFolder {
   int lock_fd_ = -1;
   bool committed_ = false;
 };
-
-// Writes `text` to `path` and checks every step (open, write, close), throwing InputError
-// "cannot write <path>: <reason>" on failure. Never writes through a symbolic link (O_NOFOLLOW:
-// a link at `path` fails the write).
-void write_file_checked(const std::filesystem::path& path, const std::string& text);
 
 // The files of an output folder that chatterlab wrote, relative with '/' separators: those
 // listed in its manifest, or for a folder written before manifests the known names

@@ -8,6 +8,7 @@
 
 #include "app/core/input_boundary.h"
 #include "app/core/signals.h"
+#include "app/core/utf8.h"
 #include "app/core/yaml_load.h"
 #include "app/core/yaml_reader.h"
 #include "app/pipeline/registry.h"
@@ -159,7 +160,17 @@ TestSpec load_test(const fs::path& campaign_root, const fs::path& test_yaml,
   t.campaign_root = campaign_root;
   t.id = fs::relative(t.folder, campaign_root).generic_string();
   if (t.id == ".") t.id = "";
+  // results.json, results.csv and the report are UTF-8: a folder named in another encoding
+  // (Latin-1 on an old share) is a test with an error, shown with U+FFFD for each bad byte.
+  const bool utf8_id = valid_utf8(t.id);
+  if (!utf8_id) t.id = utf8_replaced(t.id);
   t.yaml_label = (t.id.empty() ? "" : t.id + "/") + "test.yaml";
+  if (!utf8_id) {
+    t.errors.push_back(t.yaml_label +
+                       ": the folder's name is not valid UTF-8 (shown with U+FFFD for each bad "
+                       "byte); rename the folder in UTF-8");
+    return t;
+  }
   const YAML::Node root = load_yaml(test_yaml, t.yaml_label, &t.errors);
   if (!root) return t;
 

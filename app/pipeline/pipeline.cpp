@@ -12,6 +12,7 @@
 #include "app/core/input_boundary.h"
 #include "app/core/parallel.h"
 #include "app/core/signals.h"
+#include "app/core/utf8.h"
 
 namespace chatterlab::app {
 namespace {
@@ -135,7 +136,8 @@ void add_inputs(CampaignResults& r) {
     if (!regular_file_inside(r.campaign.root, p)) return;
     InputFile f;
     try {
-      f.relative_path = fs::relative(p, r.campaign.root).generic_string();
+      // Shown in the report and results.json, which are UTF-8 (a folder named in Latin-1).
+      f.relative_path = utf8_replaced(fs::relative(p, r.campaign.root).generic_string());
       f.bytes = fs::file_size(p);
       f.sha256 = sha256_file(p);
     } catch (const std::exception&) {  // unreadable (permissions): not hashed, the run goes on

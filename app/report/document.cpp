@@ -4,7 +4,7 @@
 #include <fstream>
 
 #include "analysis/common/summary.h"
-#include "app/cli/output_folder.h"
+#include "app/core/checked_write.h"
 #include "app/report/html_pages.h"
 #include "render/html_to_pdf.h"
 #include "render/mustache_template.h"
@@ -34,7 +34,7 @@ std::string utc_timestamp() {
 
 namespace {
 
-// Every step checked (app/cli/output_folder.h): throws InputError naming the file.
+// Every step checked (app/core/checked_write.h): throws InputError naming the file.
 void write_text(const std::filesystem::path& path, const std::string& text) {
   write_file_checked(path, text);
 }

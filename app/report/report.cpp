@@ -13,8 +13,8 @@
 
 #include "analysis/common/library_versions.h"
 #include "app/cli/exit_codes.h"
-#include "app/cli/output_folder.h"
 #include "app/cli/progress.h"
+#include "app/core/checked_write.h"
 #include "app/core/format.h"
 #include "app/git_commit.h"
 #include "app/report/document.h"
@@ -46,7 +46,7 @@ void flatten_settings(const std::string& prefix, const json& j, json& rows) {
   } else if (j.is_string()) {
     value = j.get<std::string>();
   } else {
-    value = j.dump();
+    value = j.dump(-1, ' ', false, json::error_handler_t::replace);
   }
   rows.push_back({{"key", prefix}, {"value", value}});
 }
@@ -337,7 +337,10 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
     results["campaign"] = results_campaign_name(c);
     results["results_csv"] = "results.csv";
     // Checked: a failed write throws, naming the file, and nothing says it was written.
-    write_file_checked(out / "results.json", results.dump(2) + "\n");
+    // Names from the file system or a data file that are not UTF-8 reach results.json with
+    // U+FFFD in place of each bad byte (a throw here would lose the whole report).
+    write_file_checked(out / "results.json",
+                       results.dump(2, ' ', false, json::error_handler_t::replace) + "\n");
     write_file_checked(out / "results.csv", results_table_csv(results));
   }
   if (options.progress && options.pdf) log << "report: writing report.pdf" << std::endl;

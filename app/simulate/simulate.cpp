@@ -12,6 +12,7 @@
 #include "analysis/dynamics/poincare.h"
 #include "analysis/dynamics/simulated_bifurcation.h"
 #include "analysis/milling/simulation.h"
+#include "app/core/checked_write.h"
 #include "app/core/format.h"
 #include "app/core/hashing.h"
 #include "app/core/parallel.h"
@@ -220,8 +221,8 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
   if (!options.report) {
     results["warnings"] = warnings;
     std::filesystem::create_directories(out);
-    std::ofstream js(out / "results.json");
-    js << results.dump(2) << "\n";
+    write_file_checked(out / "results.json",
+                       results.dump(2, ' ', false, json::error_handler_t::replace) + "\n");
     log << "simulate: " << sim.revolutions << " revolutions, " << sim.steps << " steps in "
         << fmt_sig(sim.runtime_s, 3) << " s; wrote " << (out / "results.json").string() << "\n";
     return 0;
@@ -262,10 +263,8 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
     if (!e.empty()) warnings.push_back(e);
   }
   results["warnings"] = warnings;
-  {
-    std::ofstream js(out / "results.json");
-    js << results.dump(2) << "\n";
-  }
+  write_file_checked(out / "results.json",
+                     results.dump(2, ' ', false, json::error_handler_t::replace) + "\n");
 
   // HTML and PDF.
   json ctx;

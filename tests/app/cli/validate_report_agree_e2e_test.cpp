@@ -13,6 +13,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -23,7 +24,9 @@
 #include "app/core/campaign.h"
 #include "app/core/hashing.h"
 #include "app/core/input_boundary.h"
+#include "app/core/utf8.h"
 #include "app/pipeline/pipeline.h"
+#include "app/report/report.h"
 #include "app/synth/synth.h"
 #include "tests/support/temp_campaign.h"
 
@@ -254,6 +257,42 @@ TEST(ValidateReportAgree, EveryBadInputGetsTheSameVerdictFromBoth) {
   for (const char* good : {"tap/x", "tap/y"}) {
     ASSERT_TRUE(by_id.count(good));
     EXPECT_TRUE(by_id[good]->status.ok()) << good << ": " << by_id[good]->status.message;
+  }
+  EXPECT_EQ(snapshot(root), before);
+}
+
+// A folder whose name is not UTF-8 once ended the whole run (results.json could not be
+// written: "invalid UTF-8 byte"). Now its test is skipped with the reason, the other tests are
+// analysed and results.json, results.csv and index.html are written, in UTF-8.
+TEST(ValidateReportAgree, AFolderNameThatIsNotUtf8SkipsItsTestOnly) {
+  TempDir d;
+  d.write("spec.yaml", kSynthSpec);
+  const fs::path root = d.path() / "campaign";
+  synthesize_campaign(d.path() / "spec.yaml", root);
+  const fs::path latin1 = root / "tap" / "Fr\xE4sen";
+  fs::create_directories(latin1);
+  fs::copy_file(root / "tap/x/test.yaml", latin1 / "test.yaml");
+  fs::copy_file(root / "tap/x/hits.csv", latin1 / "hits.csv");
+  const auto before = snapshot(root);
+  ReportOptions o;
+  o.pdf = false;
+  o.jobs = 2;
+  std::ostringstream log;
+  EXPECT_EQ(run_report(root, d.path() / "out", o, log), 0) << log.str();
+  const nlohmann::json r = nlohmann::json::parse(read_text(d.path() / "out/results.json"));
+  std::map<std::string, std::string> status;
+  for (const auto& [id, t] : r.at("tests").items()) status[id] = t.at("status");
+  const std::string shown = "tap/Fr\xEF\xBF\xBDsen";  // U+FFFD for the byte 0xE4
+  EXPECT_EQ(status, (std::map<std::string, std::string>{
+                        {"tap/x", "ok"}, {"tap/y", "ok"}, {shown, "skipped"}}));
+  if (r.at("tests").contains(shown)) {
+    EXPECT_EQ(r.at("tests").at(shown).at("skip_reason"),
+              shown +
+                  "/test.yaml: the folder's name is not valid UTF-8 (shown with U+FFFD for "
+                  "each bad byte); rename the folder in UTF-8");
+  }
+  for (const char* f : {"results.json", "results.csv", "index.html"}) {
+    EXPECT_TRUE(valid_utf8(read_text(d.path() / "out" / f))) << f;
   }
   EXPECT_EQ(snapshot(root), before);
 }

@@ -17,7 +17,10 @@ using chatterlab::testing::TempDir;
 void write_tap(const TempDir& d) {
   d.write("t/test.yaml",
           "kind: tap\naxis: x\nsample_rate_hz: 1000\ndata: {file: h.csv}\nresponse: velocity\n");
-  d.write("t/h.csv", "force,response\n1,2\n");
+  // 16 rows: the shortest record a tap test takes (analysis/frf/hits.h).
+  std::string rows = "force,response\n";
+  for (int i = 0; i < 16; ++i) rows += "1,2\n";
+  d.write("t/h.csv", rows);
 }
 
 TEST(Validate, CleanCampaignPasses) {

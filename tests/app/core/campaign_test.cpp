@@ -293,7 +293,9 @@ TEST(CampaignDialect, ValidateReportsABadColumnWithFileAndKey) {
       "t/test.yaml",
       "kind: tap\naxis: x\nsample_rate_hz: 1000\nresponse: acceleration\n"
       "data: {file: hits.csv}\nchannels:\n  force: {column: Hammer}\n  response: {column: 5}\n");
-  d.write("t/hits.csv", "t,Force (N),Accel\n0,1,2\n");
+  std::string rows = "t,Force (N),Accel\n";
+  for (int i = 0; i < 16; ++i) rows += "0,1,2\n";  // a tap record's shortest length
+  d.write("t/hits.csv", rows);
   CampaignSpec c = load_campaign(d.path());
   check_signals(c.tests[0]);
   EXPECT_EQ(c.tests[0].errors,
