@@ -26,13 +26,13 @@ demo: build
 	@echo "Report written to reports/demo/index.html and reports/demo/report.pdf"
 
 # The suite under AddressSanitizer and UndefinedBehaviorSanitizer, with Eigen's assertions on
-# (a Debug build: no NDEBUG; -O1 keeps it fast enough), built by clang in its own folder with
-# the libFuzzer targets (docs/testing.md#the-sanitizer-build). CI runs it after `make test`.
+# (a Debug build: no NDEBUG; -O1 keeps it fast enough), in its own folder
+# (docs/testing.md#the-sanitizer-build). GCC: clang 14's ASan stops at start-up in some of the
+# test binaries (docs/testing.md). Not yet part of CI.
 ASAN_BUILD ?= build-asan
 $(ASAN_BUILD)/CMakeCache.txt:
-	@CC=clang CXX=clang++ cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug \
-	  "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g" -DCHATTERLAB_SANITIZE=ON -DCHATTERLAB_FUZZ=ON \
-	  -DCHATTERLAB_WERROR=OFF -DCHATTERLAB_BENCHMARKS=OFF >/dev/null
+	@cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g" \
+	  -DCHATTERLAB_SANITIZE=ON -DCHATTERLAB_WERROR=OFF -DCHATTERLAB_BENCHMARKS=OFF >/dev/null
 
 sanitize: deps $(ASAN_BUILD)/CMakeCache.txt
 	@cmake --build $(ASAN_BUILD) -j $(JOBS)

@@ -7,8 +7,8 @@
 #   -t seconds  run each target for this long (-max_total_time; default 60)
 #   -r runs     run each target for this many inputs (-runs) instead
 #   -j jobs     build parallelism (default 2)
-#   -b build    build folder (default build-fuzz; `make sanitize` configures build-asan with
-#               the fuzz targets, which CI fuzzes briefly); configured here when absent
+#   -b build    build folder (default build-fuzz; any clang build folder configured with
+#               the fuzz targets); configured here when absent
 #   target      campaign test_yaml signals uff58 frf_text matfile (default: all)
 #
 # Each target starts from its seed corpus fuzz/corpus/<target>/ (read only) and keeps what it
