@@ -27,8 +27,8 @@ demo: build
 
 # The suite under AddressSanitizer and UndefinedBehaviorSanitizer, with Eigen's assertions on
 # (a Debug build: no NDEBUG; -O1 keeps it fast enough), in its own folder
-# (docs/testing.md#the-sanitizer-build). GCC: clang 14's ASan stops at start-up in some of the
-# test binaries (docs/testing.md). Not yet part of CI.
+# (docs/testing.md#the-sanitizer-build). GCC: clang 14's ASan stopped at start-up in a test
+# binary (docs/testing.md). Not yet part of CI.
 ASAN_BUILD ?= build-asan
 $(ASAN_BUILD)/CMakeCache.txt:
 	@cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g" \
