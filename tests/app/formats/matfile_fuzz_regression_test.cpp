@@ -25,17 +25,18 @@ std::string int32_pair(std::int32_t a, std::int32_t b) {
   return s;
 }
 
+std::string file_bytes(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
 TEST(MatfileFuzzRegression, DeclaredSizeBeyondTheFileIsRefused) {
   const TempDir dir;
   const auto file = dir.path() / "damaged.mat";
   write_mat(file, {{"M", Eigen::MatrixXd::Ones(3, 2)}});
-  std::string bytes;
-  {
-    std::ifstream in(file, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    bytes = s.str();
-  }
+  std::string bytes = file_bytes(file);
   // The dimensions subelement: miINT32 (5), 8 bytes, then 3 and 2.
   const std::string dims = int32_pair(5, 8) + int32_pair(3, 2);
   const auto at = bytes.find(dims);
@@ -94,13 +95,7 @@ TEST(MatfileFuzzRegression, FilesWithoutAV5OrV73HeaderAreRefusedBeforeLibmatio) 
 
   const auto good = dir.path() / "good.mat";
   write_mat(good, {{"M", Eigen::MatrixXd::Ones(3, 2)}});
-  std::string bytes;
-  {
-    std::ifstream in(good, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    bytes = s.str();
-  }
+  const std::string bytes = file_bytes(good);
   ASSERT_EQ(bytes.compare(0, 6, "MATLAB"), 0);
   ASSERT_EQ(numeric_variables(good).size(), 1u);
   std::string version = bytes;
