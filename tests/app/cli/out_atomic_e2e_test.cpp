@@ -28,6 +28,7 @@
 #include "app/cli/exit_codes.h"
 #include "app/cli/output_folder.h"
 #include "tests/app/cli/run_binary.h"
+#include "tests/support/output_files.h"
 #include "tests/support/synth_spec.h"
 #include "tests/support/temp_campaign.h"
 
@@ -39,29 +40,15 @@ namespace {
 namespace fs = std::filesystem;
 using chatterlab::testing::BinaryRun;
 using chatterlab::testing::file_text;
+using chatterlab::testing::Files;
+using chatterlab::testing::manifest_lines;
+using chatterlab::testing::names_in;
 using chatterlab::testing::quoted;
 using chatterlab::testing::TempDir;
 using nlohmann::json;
-using Files = std::vector<std::string>;
 
 BinaryRun run(const std::string& args, const TempDir& d) {
   return chatterlab::testing::run_chatterlab(args, d.path());
-}
-
-Files names_in(const fs::path& dir) {
-  Files out;
-  for (const auto& e : fs::directory_iterator(dir)) out.push_back(e.path().filename().string());
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
-Files manifest_lines(const fs::path& dir) {
-  std::ifstream in(dir / kManifestName);
-  Files listed;
-  for (std::string line; std::getline(in, line);) {
-    if (!line.empty() && line[0] != '#') listed.push_back(line);
-  }
-  return listed;
 }
 
 // Sets campaign.yaml's `name:` line.

@@ -12,35 +12,21 @@
 #include <fstream>
 
 #include "analysis/common/summary.h"
+#include "tests/support/output_files.h"
 #include "tests/support/temp_campaign.h"
 
 namespace chatterlab::app {
 namespace {
 
 namespace fs = std::filesystem;
+using chatterlab::testing::Files;
+using chatterlab::testing::manifest_lines;
+using chatterlab::testing::names_in;
 using chatterlab::testing::TempDir;
-using Files = std::vector<std::string>;
 
 std::string text_of(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-// The entries of a folder (names, sorted), links not followed.
-Files names_in(const fs::path& dir) {
-  Files out;
-  for (const auto& e : fs::directory_iterator(dir)) out.push_back(e.path().filename().string());
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
-Files manifest_lines(const fs::path& dir) {
-  std::ifstream in(dir / kManifestName);
-  Files listed;
-  for (std::string line; std::getline(in, line);) {
-    if (!line.empty() && line[0] != '#') listed.push_back(line);
-  }
-  return listed;
 }
 
 template <typename F>
