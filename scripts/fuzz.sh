@@ -37,8 +37,11 @@ if [ ${#targets[@]} -eq 0 ]; then
 fi
 
 if [ ! -f "$build/CMakeCache.txt" ]; then
-  CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCHATTERLAB_FUZZ=ON \
-    -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCHATTERLAB_WERROR=OFF -DCHATTERLAB_BENCHMARKS=OFF
+  generator=()
+  if command -v ninja >/dev/null 2>&1; then generator=(-G Ninja); fi
+  CC=clang CXX=clang++ cmake "${generator[@]}" -S "$root" -B "$build" -DCHATTERLAB_FUZZ=ON \
+    -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only" \
+    -DCHATTERLAB_WERROR=OFF -DCHATTERLAB_BENCHMARKS=OFF
 fi
 cmake --build "$build" -j"$jobs" --target $(printf '%s_fuzz ' "${targets[@]}")
 

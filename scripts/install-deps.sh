@@ -4,7 +4,7 @@
 set -euo pipefail
 
 PACKAGES=(
-  build-essential cmake pkg-config
+  build-essential cmake pkg-config ninja-build lld
   libeigen3-dev libfftw3-dev libceres-dev libyaml-cpp-dev
   nlohmann-json3-dev libkainjow-mustache-dev
   libgtest-dev libgmock-dev libbenchmark-dev

@@ -188,6 +188,7 @@ int main(int argc, char** argv) {
       so.pdf = report_options.pdf;
       so.report = !results_only;
       so.jobs = report_options.jobs;
+      so.warnings = &std::cerr;
       chatterlab::app::OutputFolder folder(out);
       work_shown = folder.work().string();
       out_shown = folder.dir().string();

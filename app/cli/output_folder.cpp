@@ -107,6 +107,47 @@ std::vector<std::string> files_below(const fs::path& dir) {
   return out;
 }
 
+// Flushes a file or folder to the disk (fsync); false with errno when it cannot.
+bool flush_to_disk(const fs::path& p, bool folder) {
+  const int fd = ::open(p.c_str(), (folder ? O_DIRECTORY : 0) | O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+  if (fd < 0) return false;
+  const bool ok = ::fsync(fd) == 0;
+  const int e = errno;
+  ::close(fd);
+  errno = e;
+  return ok;
+}
+
+// Every regular file below `dir`, then every folder from the deepest up to `dir` itself, flushed
+// to the disk: the new output is on the disk before it replaces the previous one, so that a
+// power cut after the exchange cannot leave a report of empty files.
+void flush_tree(const fs::path& dir, const std::string& shown) {
+  std::vector<fs::path> folders{dir};
+  std::error_code ec;
+  for (fs::recursive_directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const auto st = it->symlink_status(ec);
+    if (ec) break;
+    if (fs::is_directory(st)) {
+      folders.push_back(it->path());
+    } else if (fs::is_regular_file(st) && !flush_to_disk(it->path(), false)) {
+      throw InputError(shown + ": cannot flush " + it->path().string() +
+                       " to the disk: " + std::strerror(errno) + "; nothing replaced");
+    }
+  }
+  if (ec) throw InputError(shown + ": cannot list " + dir.string() + ": " + ec.message());
+  for (auto f = folders.rbegin(); f != folders.rend(); ++f) {
+    if (!flush_to_disk(*f, true)) {
+      throw InputError(shown + ": cannot flush " + f->string() +
+                       " to the disk: " + std::strerror(errno) + "; nothing replaced");
+    }
+  }
+}
+
+// The folder holding `p` flushed (its new entry on the disk); best effort, after the rename.
+void flush_parent(const fs::path& p) {
+  flush_to_disk(p.parent_path().empty() ? fs::path(".") : p.parent_path(), true);
+}
+
 std::vector<std::string> chatterlab_files(const fs::path& dir) {
   std::vector<std::string> listed;
   std::error_code ec;
@@ -269,8 +310,10 @@ int OutputFolder::commit() {
       }
       ++carried;
     }
+    flush_tree(work_, shown);
     if (exchange(work_, dir_)) {
       committed_ = true;
+      flush_parent(dir_);
       fs::remove_all(work_, ec);  // now the previous output
       return carried;
     }
@@ -290,14 +333,17 @@ int OutputFolder::commit() {
       throw InputError(shown + ": cannot replace it: " + errno_text(e));
     }
     committed_ = true;
+    flush_parent(dir_);
     fs::remove_all(aside, ec);
     return carried;
   }
+  flush_tree(work_, shown);
   if (::rename(work_.c_str(), dir_.c_str()) != 0) {
     throw InputError(shown + ": cannot move " + work_.string() +
                      " into place: " + errno_text(errno));
   }
   committed_ = true;
+  flush_parent(dir_);
   return carried;
 }
 

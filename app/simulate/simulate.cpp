@@ -121,7 +121,8 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
   const auto t0 = std::chrono::steady_clock::now();
   const SimulationSpec spec = load_simulation_spec(spec_file);
   // Ignored (misspelt) keys are said before the run starts, and kept in results.json.
-  for (const auto& w : spec.warnings) log << "chatterlab simulate: warning: " << w << "\n";
+  std::ostream& warn = options.warnings != nullptr ? *options.warnings : log;
+  for (const auto& w : spec.warnings) warn << "chatterlab simulate: warning: " << w << "\n";
   const milling::SimulationOptions o = simulation_options(spec);
   const milling::SimulationGrid grid = milling::simulation_grid(o);
 

@@ -15,6 +15,9 @@ struct SimulateOptions {
   bool pdf = true;
   bool report = true;  // false: results.json only (no figures, HTML or PDF), for sweeps
   int jobs = 0;        // figure threads; 0: one per hardware thread
+  // Where the spec's warnings (misspelt keys) are said before the run; nullptr: on `log`. The
+  // command line passes stderr, so that --quiet keeps them (they are also in results.json).
+  std::ostream* warnings = nullptr;
 };
 
 // The simulator's options for a spec (traditional model: contact switching, velocity-first

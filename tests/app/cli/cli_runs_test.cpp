@@ -220,6 +220,33 @@ TEST(CliOutputFolder, SimulateAndSynthQuiet) {
   EXPECT_NE(b.err.find("chatterlab simulate: "), std::string::npos) << b.err;
 }
 
+// A misspelt key of a simulation spec is a warning on stderr, with or without --quiet (stdout
+// holds the summary only), and the run goes on.
+TEST(CliOutputFolder, SimulateWarnsOnStderrEvenWhenQuiet) {
+  TempDir d;
+  d.write("spec.yaml",
+          "format: chatterlab-simulation/1\n"
+          "tool: {teeth: 2, radius_mm: 6.35}\n"
+          "modal: {m_kg: 0.03134, c_kg_s: 22.21, k_N_m: 9.84e5}\n"
+          "coefficients: {Kt_N_m2: 6.0e8, Kr_N_m2: 2.0e8}\n"
+          "cut: {operation: up-milling, spindle_rpm: 15000, feed_per_tooth_mm: 0.0635,\n"
+          "      radial_immersion_mm: 0.382, axial_depth_mm: [0.0, 0.1], revolutions_per_mm: 100}\n"
+          "steps_per_toth: 100\n");
+  const std::string warning =
+      "chatterlab simulate: warning: spec.yaml: key 'steps_per_toth' is not part of the format "
+      "and is ignored (did you mean 'steps_per_tooth'?)";
+  for (const char* quiet : {"", " --quiet"}) {
+    SCOPED_TRACE(quiet);
+    const BinaryRun r = run("simulate " + quoted(d.path() / "spec.yaml") + " --out " +
+                                quoted(d.path() / "sim") + " --results-only" + quiet,
+                            d);
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find(warning), std::string::npos) << r.err;
+    EXPECT_EQ(r.out.find("warning"), std::string::npos) << r.out;
+    EXPECT_TRUE(fs::exists(d.path() / "sim/results.json"));
+  }
+}
+
 // A second run of a smaller campaign into the first run's folder holds exactly the files of a
 // run into a fresh folder (tap figures and per-test files of the first run gone, an old PDF
 // too), plus a file the user put there.
