@@ -2,6 +2,7 @@
 
 #include <matio.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <array>
@@ -9,7 +10,9 @@
 #include <fstream>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <system_error>
+#include <vector>
 
 #include "analysis/common/summary.h"
 
@@ -50,6 +53,130 @@ struct VarFreer {
 using File = std::unique_ptr<mat_t, FileCloser>;
 using Var = std::unique_ptr<matvar_t, VarFreer>;
 
+// The element tags of a v5 file, walked before libmatio reads it ("Level 5 MAT-File Format":
+// an 8-byte tag, type and byte count, or a small element with both in 4 bytes). libmatio
+// allocates what a tag declares before reading it: a matrix whose dimensions sub-element
+// declared 1.3 GB in a 1.8 kB file made it malloc 2.5 GB (fuzzing finding 7, docs/fuzzing.md).
+// Every top-level element must fit in the file; in a matrix (miMATRIX, 14), the array flags,
+// dimensions and name sub-elements must fit in the matrix; a compressed element (miCOMPRESSED,
+// 15) is inflated far enough to check its matrix's tags the same way, its matrix declaring at
+// most 1100 bytes per compressed byte (zlib's ratio stays below 1032:1).
+class TagWalk {
+ public:
+  TagWalk(std::ifstream& in, std::uintmax_t size, bool swap) : in_(in), size_(size), swap_(swap) {}
+
+  std::string problem() {
+    std::uintmax_t p = 128;
+    for (int element = 1; p <= size_ && size_ - p >= 8; ++element) {
+      const auto bytes = read_at(p, 8);
+      if (bytes.size() < 8) return "";
+      std::uint32_t type = 0, count = 0;
+      const bool small = tag(bytes.data(), &type, &count);
+      if (small) {
+        p += 8;
+        continue;
+      }
+      const std::string where =
+          "element " + std::to_string(element) + " (at byte " + std::to_string(p) + ")";
+      if (count > size_ - p - 8) {
+        return where + " declares " + std::to_string(count) + " bytes, beyond the end of the " +
+               std::to_string(size_) + "-byte file (a damaged file)";
+      }
+      if (type == 14) {
+        if (auto why = matrix(read_at(p + 8, std::min<std::uintmax_t>(count, kHeadBytes)), count);
+            !why.empty()) {
+          return where + ": " + why;
+        }
+      } else if (type == 15) {
+        if (auto why = compressed(p + 8, count); !why.empty()) return where + ": " + why;
+      }
+      p += 8 + count;
+      if (type != 15) p += (8 - count % 8) % 8;
+    }
+    return "";
+  }
+
+ private:
+  static constexpr std::uintmax_t kHeadBytes = 1024;
+
+  std::vector<unsigned char> read_at(std::uintmax_t offset, std::uintmax_t n) {
+    std::vector<unsigned char> out(static_cast<std::size_t>(n));
+    in_.clear();
+    in_.seekg(static_cast<std::streamoff>(offset));
+    in_.read(reinterpret_cast<char*>(out.data()), static_cast<std::streamsize>(n));
+    out.resize(static_cast<std::size_t>(std::max<std::streamsize>(in_.gcount(), 0)));
+    return out;
+  }
+
+  std::uint32_t u32(const unsigned char* b) const {
+    return swap_ ? (std::uint32_t{b[0]} << 24 | std::uint32_t{b[1]} << 16 |
+                    std::uint32_t{b[2]} << 8 | b[3])
+                 : (std::uint32_t{b[3]} << 24 | std::uint32_t{b[2]} << 16 |
+                    std::uint32_t{b[1]} << 8 | b[0]);
+  }
+
+  // True for a small data element (its byte count in the upper half of the first word).
+  bool tag(const unsigned char* b, std::uint32_t* type, std::uint32_t* count) const {
+    const std::uint32_t w = u32(b);
+    if ((w >> 16) != 0) {
+      *type = w & 0xffffu;
+      *count = w >> 16;
+      return true;
+    }
+    *type = w;
+    *count = u32(b + 4);
+    return false;
+  }
+
+  // `head`: the first bytes of a matrix's contents; `length`: the bytes the matrix declares.
+  std::string matrix(const std::vector<unsigned char>& head, std::uintmax_t length) const {
+    static const char* const kParts[] = {"array flags", "dimensions", "name"};
+    std::uintmax_t q = 0;
+    for (const char* part : kParts) {
+      if (length - q < 8 || head.size() < q + 8) return "";
+      std::uint32_t type = 0, count = 0;
+      if (tag(head.data() + q, &type, &count)) {
+        q += 8;
+        continue;
+      }
+      if (count > length - q - 8) {
+        return std::string("its ") + part + " declare " + std::to_string(count) +
+               " bytes, more than the " + std::to_string(length) +
+               " bytes of the variable (a damaged file)";
+      }
+      q += 8 + count + (8 - count % 8) % 8;
+      if (q > length) return "";
+    }
+    return "";
+  }
+
+  std::string compressed(std::uintmax_t offset, std::uintmax_t count) {
+    std::vector<unsigned char> in = read_at(offset, std::min<std::uintmax_t>(count, 64 * 1024));
+    std::vector<unsigned char> out(8 + kHeadBytes);
+    z_stream z{};
+    if (inflateInit(&z) != Z_OK) return "";
+    z.next_in = in.data();
+    z.avail_in = static_cast<uInt>(in.size());
+    z.next_out = out.data();
+    z.avail_out = static_cast<uInt>(out.size());
+    inflate(&z, Z_SYNC_FLUSH);  // what inflates is checked; libmatio reports a broken stream
+    out.resize(out.size() - z.avail_out);
+    inflateEnd(&z);
+    if (out.size() < 8) return "";
+    std::uint32_t type = 0, length = 0;
+    if (tag(out.data(), &type, &length) || type != 14) return "";
+    if (length / 1100 > count) {
+      return "its compressed variable declares " + std::to_string(length) + " bytes in " +
+             std::to_string(count) + " compressed bytes (a damaged file)";
+    }
+    return matrix(std::vector<unsigned char>(out.begin() + 8, out.end()), length);
+  }
+
+  std::ifstream& in_;
+  std::uintmax_t size_;
+  bool swap_;
+};
+
 // Why the file's first 128 bytes are not the header of a v5 or v7.3 .mat file (empty when they
 // are): descriptive text starting "MATLAB", version 0x0100 (v5) or 0x0200 (v7.3, an HDF5 file
 // with this header as its user block), endian indicator "IM" or "MI" (the MAT-file format,
@@ -70,7 +197,12 @@ std::string header_problem(const std::filesystem::path& file) {
   if (!text || !(little || big) || (version != 0x0100 && version != 0x0200)) {
     return "not a v5 or v7.3 .mat file (no MAT-file header; v4 files are not read)";
   }
-  return "";
+  if (version == 0x0200) return "";  // v7.3: an HDF5 file, read by libhdf5
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(file, ec);
+  if (ec) return "";
+  // "IM" read as bytes means the file was written little-endian.
+  return TagWalk(in, size, !little).problem();
 }
 
 File open_read(const std::filesystem::path& file) {

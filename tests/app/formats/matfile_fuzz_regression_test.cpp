@@ -107,5 +107,48 @@ TEST(MatfileFuzzRegression, FilesWithoutAV5OrV73HeaderAreRefusedBeforeLibmatio) 
   expect_refused("text.mat", text, refused);
 }
 
+// Finding 7: a v5 file whose matrix's dimensions tag declared 0x4c54414d bytes ("MATL" pasted
+// over it) made libmatio allocate 2.5 GB. Element tags are now walked before libmatio: a
+// sub-element larger than its matrix, and a matrix larger than the file, are refused naming
+// the element; the undamaged file still reads.
+TEST(MatfileFuzzRegression, TagsDeclaringMoreThanTheirElementAreRefusedBeforeLibmatio) {
+  const TempDir dir;
+  const auto good = dir.path() / "good.mat";
+  write_mat(good, {{"M", Eigen::MatrixXd::Ones(3, 2)}});
+  const std::string bytes = file_bytes(good);
+  ASSERT_EQ(numeric_variables(good).size(), 1u);
+  std::int32_t matrix_bytes = 0;
+  std::memcpy(&matrix_bytes, bytes.data() + 132, 4);  // the first element's tag, at byte 128
+  const auto expect = [&](const std::string& name, const std::string& damaged,
+                          const std::string& why) {
+    const auto file = dir.path() / name;
+    std::ofstream(file, std::ios::binary) << damaged;
+    for (int call = 0; call < 2; ++call) {
+      try {
+        if (call == 0) {
+          numeric_variables(file);
+        } else {
+          read_vector(file, "M", 0);
+        }
+        ADD_FAILURE() << name << ": no InputError (call " << call << ")";
+      } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()), file.string() + ": " + why) << name;
+      }
+    }
+  };
+  std::string dims = bytes;
+  const auto at = dims.find(int32_pair(5, 8) + int32_pair(3, 2));
+  ASSERT_NE(at, std::string::npos);
+  dims.replace(at, 8, int32_pair(5, 0x4c54414d));
+  expect("dims.mat", dims,
+         "element 1 (at byte 128): its dimensions declare 1280590157 bytes, more than the " +
+             std::to_string(matrix_bytes) + " bytes of the variable (a damaged file)");
+  std::string element = bytes;
+  element.replace(128, 8, int32_pair(14, 0x7fffffff));
+  expect("element.mat", element,
+         "element 1 (at byte 128) declares 2147483647 bytes, beyond the end of the " +
+             std::to_string(bytes.size()) + "-byte file (a damaged file)");
+}
+
 }  // namespace
 }  // namespace chatterlab::app::mat
