@@ -51,12 +51,9 @@ sanitize: deps $(ASAN_BUILD)/CMakeCache.txt
 
 # A short libFuzzer run of every fuzz target (docs/fuzzing.md): a clang build of the targets in
 # its own folder, then FUZZ_SECONDS of fuzzing each, from the seed corpus.
-# matfile is left out until fuzzing finding 7 (docs/fuzzing.md: libmatio allocates 2.5 GB on a
-# damaged dimensions tag) is fixed: it finds it within seconds. `make fuzz-smoke FUZZ_TARGETS=`
-# runs every target.
 FUZZ_BUILD ?= build-fuzz
 FUZZ_SECONDS ?= 20
-FUZZ_TARGETS ?= campaign test_yaml signals uff58 frf_text
+FUZZ_TARGETS ?= campaign test_yaml signals uff58 frf_text matfile
 fuzz-smoke: deps
 	@scripts/fuzz.sh -b $(FUZZ_BUILD) -j $(JOBS) -t $(FUZZ_SECONDS) $(FUZZ_TARGETS)
 

@@ -45,6 +45,11 @@ if [ ! -f "$build/CMakeCache.txt" ]; then
 fi
 cmake --build "$build" -j"$jobs" --target $(printf '%s_fuzz ' "${targets[@]}")
 
+# The targets write each input to a file for readers that take a path: on tmpfs when there is
+# one. On ext4 the truncate-and-rewrite of that file forces a write-back each time; tmpfs made
+# signals_fuzz 3.4 times faster (docs/fuzzing.md).
+if [ -z "${TMPDIR:-}" ] && [ -d /dev/shm ] && [ -w /dev/shm ]; then export TMPDIR=/dev/shm; fi
+
 status=0
 summary=()
 for t in "${targets[@]}"; do

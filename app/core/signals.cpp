@@ -673,18 +673,31 @@ void SignalTable::read_mat(const DataSpec& data) {
         most = k;
       }
     }
-    std::map<std::string, Eigen::MatrixXd> loaded;
+    // The variables holding channels, read in one opening of the file.
+    std::vector<std::string> wanted;
+    for (const auto& c : candidates) {
+      if (c.length == length &&
+          std::find(wanted.begin(), wanted.end(), c.variable) == wanted.end()) {
+        wanted.push_back(c.variable);
+      }
+    }
+    const std::vector<Eigen::MatrixXd> loaded = mat::read_matrices(data.file, wanted);
     for (const auto& c : candidates) {
       if (c.length != length) {
         left_out.push_back(c.name + " (" + std::to_string(c.length) + " values, the record has " +
                            std::to_string(length) + ")");
         continue;
       }
-      auto it = loaded.find(c.variable);
-      if (it == loaded.end()) {
-        it = loaded.emplace(c.variable, mat::read_matrix(data.file, c.variable)).first;
+      const auto at = std::find(wanted.begin(), wanted.end(), c.variable) - wanted.begin();
+      const Eigen::MatrixXd& m = loaded[static_cast<std::size_t>(at)];
+      const bool fits = c.column ? m.cols() > static_cast<Eigen::Index>(*c.column) &&
+                                       m.rows() >= static_cast<Eigen::Index>(length)
+                                 : m.size() >= static_cast<Eigen::Index>(length);
+      if (!fits) {  // listed and read apart: a damaged v7.3 file may answer differently
+        throw InputError(data.file.string() + ": variable '" + c.variable + "' read as " +
+                         std::to_string(m.rows()) + " x " + std::to_string(m.cols()) +
+                         ", not the size its header lists (a damaged file)");
       }
-      const Eigen::MatrixXd& m = it->second;
       const double* p = c.column ? m.col(static_cast<Eigen::Index>(*c.column)).data() : m.data();
       names_.push_back(c.name);
       columns_.emplace_back(p, p + length);
@@ -770,7 +783,7 @@ std::size_t SignalTable::column_of(const std::string& name, const ChannelSpec& c
   if (idx >= 0) return static_cast<std::size_t>(idx);
   std::string hint;
   for (const auto& n : names_) {
-    if (lower(n) == lower(c.header) || edit_distance(n, c.header) <= 2) {
+    if (lower(n) == lower(c.header) || within_edits(n, c.header, 2)) {
       hint = " (did you mean '" + n + "'?)";
       break;
     }
@@ -867,8 +880,9 @@ std::vector<std::string> unmatched_channel_keys(const SignalTable& table,
     std::string best;
     int best_d = 1 << 20;
     for (const auto& k : known) {
+      if (!looks_like(k, name) && lower(k) != lower(name)) continue;
       const int d = edit_distance(lower(k), lower(name));
-      if ((looks_like(k, name) || lower(k) == lower(name)) && d < best_d) {
+      if (d < best_d) {
         best_d = d;
         best = k;
       }

@@ -147,10 +147,15 @@ YAML::Node load_yaml_file(const fs::path& file, const std::string& label,
     errors->push_back(label + ": cannot be opened for reading");
     return none;
   }
-  // Read at most one byte past the limit (a file growing after the size check is still refused).
-  std::string text(static_cast<size_t>(kYamlMaxFileBytes) + 1, '\0');
-  in.read(text.data(), static_cast<std::streamsize>(text.size()));
-  text.resize(static_cast<size_t>(in.gcount()));
+  // Read in blocks, at most one block past the limit: a file growing after the size check is
+  // still refused (load_yaml_text checks the length), and a small file costs a small buffer
+  // (a buffer of the limit's size took most of the time of loading a campaign).
+  std::string text;
+  text.reserve(ec ? 0 : static_cast<size_t>(size) + 1);
+  char block[16384];
+  while (text.size() <= kYamlMaxFileBytes && in.read(block, sizeof block).gcount() > 0) {
+    text.append(block, static_cast<size_t>(in.gcount()));
+  }
   if (in.bad()) {
     errors->push_back(label + ": read error");
     return none;

@@ -50,9 +50,16 @@ int edit_distance(const std::string& a, const std::string& b) {
   return prev[b.size()];
 }
 
+bool within_edits(const std::string& a, const std::string& b, int edits) {
+  // The length difference bounds the distance from below: long strings (a fuzzed key of a
+  // megabyte) are not compared cell by cell against every known key.
+  const auto diff = a.size() > b.size() ? a.size() - b.size() : b.size() - a.size();
+  return diff <= static_cast<std::size_t>(edits) && edit_distance(a, b) <= edits;
+}
+
 bool looks_like(const std::string& written, const std::string& wanted) {
   if (written == wanted) return false;
-  if (edit_distance(written, wanted) <= 2) return true;
+  if (within_edits(written, wanted, 2)) return true;
   const auto& shorter = written.size() < wanted.size() ? written : wanted;
   const auto& longer = written.size() < wanted.size() ? wanted : written;
   return shorter.size() >= 4 && longer.compare(0, shorter.size(), shorter) == 0 &&
@@ -79,8 +86,9 @@ std::string YamlReader::missing_message(const YAML::Node& map, const std::string
     for (const auto& kv : map) {
       if (!is_name_key(kv.first)) continue;
       const auto k = kv.first.Scalar();
+      if (!looks_like(k, key)) continue;
       const int d = edit_distance(k, key);
-      if (looks_like(k, key) && d < best_d) {
+      if (d < best_d) {
         best_d = d;
         best = k;
       }

@@ -70,6 +70,9 @@ class YamlReader {
 // Edit distance between two short strings (used to suggest a misspelt key).
 int edit_distance(const std::string& a, const std::string& b);
 
+// Whether a and b are within `edits` edits (lengths compared first, so cheap for long strings).
+bool within_edits(const std::string& a, const std::string& b, int edits);
+
 // A key written for `wanted`: within two edits, or `wanted` without (or with an extra) unit
 // suffix such as "_hz" or "_mm" (one is a prefix of the other, at least 4 characters).
 bool looks_like(const std::string& written, const std::string& wanted);

@@ -12,9 +12,11 @@
 #include <mutex>
 #include <string>
 #include <system_error>
+#include <utility>
 #include <vector>
 
 #include "analysis/common/summary.h"
+#include "app/core/isolated.h"
 
 namespace chatterlab::app::mat {
 namespace {
@@ -205,6 +207,19 @@ std::string header_problem(const std::filesystem::path& file) {
   return TagWalk(in, size, !little).problem();
 }
 
+// Whether the file has a v7.3 header (an HDF5 file, read by libhdf5 under libmatio).
+bool v73_header(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::array<unsigned char, 128> h{};
+  if (!in.read(reinterpret_cast<char*>(h.data()), static_cast<std::streamsize>(h.size()))) {
+    return false;
+  }
+  const bool little = h[126] == 'I' && h[127] == 'M';
+  const bool big = h[126] == 'M' && h[127] == 'I';
+  const unsigned version = little ? (h[124] | (h[125] << 8)) : ((h[124] << 8) | h[125]);
+  return std::equal(h.begin(), h.begin() + 6, "MATLAB") && (little || big) && version == 0x0200;
+}
+
 File open_read(const std::filesystem::path& file) {
   init_log();
   if (!std::filesystem::exists(file)) throw InputError(file.string() + ": file not found");
@@ -288,10 +303,9 @@ void check_declared_size(mat_t* m, const matvar_t& v, const std::filesystem::pat
   }
 }
 
-}  // namespace
-
-std::vector<Variable> numeric_variables(const std::filesystem::path& file) {
-  const std::lock_guard<std::recursive_mutex> lock(matio_mutex);
+// The readers below run in this process for v5 files (checked by TagWalk first) and in a
+// child process for v7.3 files (see isolated() further down). The caller holds matio_mutex.
+std::vector<Variable> numeric_variables_here(const std::filesystem::path& file) {
   File m = open_read(file);
   std::vector<Variable> out;
   while (Var v{Mat_VarReadNextInfo(m.get())}) {
@@ -302,15 +316,15 @@ std::vector<Variable> numeric_variables(const std::filesystem::path& file) {
   return out;
 }
 
-namespace {
-
 Var read_numeric(mat_t* m, const std::filesystem::path& file, const std::string& name) {
   const std::string where = file.string() + ": variable '" + name + "'";
   if (const Var info{Mat_VarReadInfo(m, name.c_str())}) check_declared_size(m, *info, file);
   Var v{Mat_VarRead(m, name.c_str())};
   if (!v) {
     std::string names;
-    for (const auto& n : numeric_variables(file)) names += (names.empty() ? "" : ", ") + n.name;
+    for (const auto& n : numeric_variables_here(file)) {
+      names += (names.empty() ? "" : ", ") + n.name;
+    }
     throw InputError(where + " is not in the file (numeric variables: " +
                      (names.empty() ? "none" : names) + ")" + matio_said());
   }
@@ -322,21 +336,22 @@ Var read_numeric(mat_t* m, const std::filesystem::path& file, const std::string&
   return v;
 }
 
-}  // namespace
-
-Eigen::MatrixXd read_matrix(const std::filesystem::path& file, const std::string& name) {
-  const std::lock_guard<std::recursive_mutex> lock(matio_mutex);
+std::vector<Eigen::MatrixXd> read_matrices_here(const std::filesystem::path& file,
+                                                const std::vector<std::string>& names) {
   File m = open_read(file);
-  const Var v = read_numeric(m.get(), file, name);
-  const std::size_t rows = v->dims[0], cols = v->dims[1];
-  Eigen::MatrixXd out(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
-  for (std::size_t i = 0; i < rows * cols; ++i) out.data()[i] = element(*v, i);  // column-major
+  std::vector<Eigen::MatrixXd> out;
+  for (const auto& name : names) {
+    const Var v = read_numeric(m.get(), file, name);
+    const std::size_t rows = v->dims[0], cols = v->dims[1];
+    Eigen::MatrixXd& x =
+        out.emplace_back(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
+    for (std::size_t i = 0; i < rows * cols; ++i) x.data()[i] = element(*v, i);  // column-major
+  }
   return out;
 }
 
-Eigen::VectorXd read_vector(const std::filesystem::path& file, const std::string& name,
-                            std::optional<std::size_t> column) {
-  const std::lock_guard<std::recursive_mutex> lock(matio_mutex);
+Eigen::VectorXd read_vector_here(const std::filesystem::path& file, const std::string& name,
+                                 std::optional<std::size_t> column) {
   File m = open_read(file);
   const Var v = read_numeric(m.get(), file, name);
   const std::string where = file.string() + ": variable '" + name + "'";
@@ -360,6 +375,103 @@ Eigen::VectorXd read_vector(const std::filesystem::path& file, const std::string
     out[static_cast<Eigen::Index>(i)] = element(*v, first + i);
   }
   return out;
+}
+
+// v7.3 files are HDF5 files, and libhdf5 (1.10.8 in Debian 12) is not safe on damaged ones: a
+// mutated v7.3 file overflowed a heap buffer inside H5O__attr_open_by_name (fuzzing finding 8,
+// docs/fuzzing.md), which would end the whole run. They are therefore read in a child process
+// (app/core/isolated.h): a crash, a hang or a corruption there skips that test with a message
+// naming the file, and the campaign goes on. A fork costs about a millisecond per call.
+IsolatedOptions isolated(const std::filesystem::path& file) {
+  IsolatedOptions o;
+  o.what = file.string() + ": reading this v7.3 (HDF5) .mat file";
+  return o;
+}
+
+void put_matrix(ByteWriter& w, const Eigen::MatrixXd& m) {
+  w.u64(static_cast<std::uint64_t>(m.rows()));
+  w.u64(static_cast<std::uint64_t>(m.cols()));
+  w.f64(m.data(), static_cast<std::size_t>(m.size()));
+}
+
+Eigen::MatrixXd get_matrix(ByteReader& r) {
+  const auto rows = static_cast<Eigen::Index>(r.u64());
+  const auto cols = static_cast<Eigen::Index>(r.u64());
+  if (rows < 0 || cols < 0 ||
+      (rows != 0 && static_cast<std::size_t>(cols) > r.left() / sizeof(double) / rows)) {
+    throw InputError(r.what() + ": the reader process's reply is short");
+  }
+  Eigen::MatrixXd m(rows, cols);
+  r.f64(m.data(), static_cast<std::size_t>(m.size()));
+  return m;
+}
+
+}  // namespace
+
+std::vector<Variable> numeric_variables(const std::filesystem::path& file) {
+  const std::lock_guard<std::recursive_mutex> lock(matio_mutex);
+  if (!v73_header(file)) return numeric_variables_here(file);
+  const std::string bytes = run_isolated(
+      [&] {
+        ByteWriter w;
+        const auto vars = numeric_variables_here(file);
+        w.u64(vars.size());
+        for (const auto& v : vars) {
+          w.str(v.name);
+          w.u64(v.rows);
+          w.u64(v.cols);
+          w.u64(v.complex ? 1 : 0);
+        }
+        return w.take();
+      },
+      isolated(file));
+  ByteReader r(bytes, isolated(file).what);
+  std::vector<Variable> out;
+  for (std::uint64_t n = r.u64(), i = 0; i < n; ++i) {
+    Variable v;
+    v.name = r.str();
+    v.rows = r.u64();
+    v.cols = r.u64();
+    v.complex = r.u64() != 0;
+    out.push_back(std::move(v));
+  }
+  return out;
+}
+
+std::vector<Eigen::MatrixXd> read_matrices(const std::filesystem::path& file,
+                                           const std::vector<std::string>& names) {
+  const std::lock_guard<std::recursive_mutex> lock(matio_mutex);
+  if (!v73_header(file)) return read_matrices_here(file, names);
+  const std::string bytes = run_isolated(
+      [&] {
+        ByteWriter w;
+        for (const auto& m : read_matrices_here(file, names)) put_matrix(w, m);
+        return w.take();
+      },
+      isolated(file));
+  ByteReader r(bytes, isolated(file).what);
+  std::vector<Eigen::MatrixXd> out;
+  for (std::size_t i = 0; i < names.size(); ++i) out.push_back(get_matrix(r));
+  return out;
+}
+
+Eigen::MatrixXd read_matrix(const std::filesystem::path& file, const std::string& name) {
+  return std::move(read_matrices(file, {name}).front());
+}
+
+Eigen::VectorXd read_vector(const std::filesystem::path& file, const std::string& name,
+                            std::optional<std::size_t> column) {
+  const std::lock_guard<std::recursive_mutex> lock(matio_mutex);
+  if (!v73_header(file)) return read_vector_here(file, name, column);
+  const std::string bytes = run_isolated(
+      [&] {
+        ByteWriter w;
+        put_matrix(w, read_vector_here(file, name, column));
+        return w.take();
+      },
+      isolated(file));
+  ByteReader r(bytes, isolated(file).what);
+  return get_matrix(r).col(0);
 }
 
 bool v73_supported() {

@@ -87,6 +87,14 @@ TEST(Campaign, KeyWithoutItsUnitSuffixIsAMisspelling) {
   EXPECT_FALSE(looks_like("axis", "axis"));
 }
 
+TEST(Campaign, WithinEditsComparesLengthsFirst) {
+  EXPECT_TRUE(within_edits("smaple_rate_hz", "sample_rate_hz", 2));
+  EXPECT_TRUE(within_edits("sample_rate", "sample_rate_hz", 3));
+  EXPECT_FALSE(within_edits("sample_rate", "sample_rate_hz", 2));  // 3 characters apart
+  EXPECT_FALSE(within_edits(std::string(100000, 'a'), "axis", 2));
+  EXPECT_TRUE(within_edits("", "ab", 2));
+}
+
 TEST(Campaign, WrongTypeNamesFileKeyAndValue) {
   TempDir d;
   d.write("campaign.yaml", kCampaignYaml);

@@ -149,6 +149,23 @@ TEST(YamlStrict, FileLargerThanTheLimitIsNotRead) {
       << all(c.tests[0].errors);
 }
 
+TEST(YamlStrict, FileOfExactlyTheLimitIsReadWhole) {
+  // Read in 16 KiB blocks: the key after the 1 MiB of comment is still read.
+  TempDir d;
+  d.write("campaign.yaml", kCampaignYaml);
+  std::string text = std::string(kTapYaml) + "# ";
+  const std::string last = "\nnotes: tail\n";
+  text += std::string(static_cast<size_t>(kYamlMaxFileBytes) - text.size() - last.size(), 'x');
+  text += last;
+  ASSERT_EQ(text.size(), kYamlMaxFileBytes);
+  std::vector<std::string> errors;
+  d.write("t/test.yaml", text);
+  const YAML::Node n = load_yaml_file(d.path() / "t/test.yaml", "t/test.yaml", &errors);
+  EXPECT_TRUE(errors.empty()) << all(errors);
+  ASSERT_TRUE(n["notes"]);
+  EXPECT_EQ(n["notes"].as<std::string>(), "tail");
+}
+
 TEST(YamlStrict, AliasExpansionIsBounded) {
   // Each level doubles the nodes reached through aliases: 2^25 leaves, a few hundred bytes.
   std::string text = "a0: &a0 [x, x]\n";
@@ -237,37 +254,33 @@ TEST(YamlStrict, TeethOf1e300IsRefusedNotReadAsANegativeInteger) {
       << all(c.errors);
 }
 
-TEST(YamlStrict, SynthTeethOf1e300IsRefused) {
+// The InputError synthesize_campaign gives on the default synth spec with `from` replaced by
+// `to` (empty when none).
+std::string synth_error(const std::string& from, const std::string& to) {
   TempDir d;
-  SynthSpecText spec;
-  std::string text = spec.text();
-  text.replace(text.find("teeth: 2"), 8, "teeth: 1e300");
+  std::string text = SynthSpecText().text();
+  text.replace(text.find(from), from.size(), to);
   try {
     synthesize_campaign(d.write("spec.yaml", text), d.path() / "out");
-    ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find(
-                  "spec.yaml: key 'tool.teeth' must be a whole number from 1 to 500, got '1e300'"),
-              std::string::npos)
-        << e.what();
+    return e.what();
   }
+  return "";
+}
+
+TEST(YamlStrict, SynthTeethOf1e300IsRefused) {
+  const std::string e = synth_error("teeth: 2", "teeth: 1e300");
+  EXPECT_NE(e.find("spec.yaml: key 'tool.teeth' must be a whole number from 1 to 500, got '1e300'"),
+            std::string::npos)
+      << e;
 }
 
 // A feed that is no number threw YAML::TypedBadConversion out of synth (an internal error).
 TEST(YamlStrict, SynthDynoFeedThatIsNoNumberIsAnInputError) {
-  TempDir d;
-  SynthSpecText spec;
-  std::string text = spec.text();
-  text.replace(text.find("feeds_mm: [0.05, 0.10, 0.15]"), 28, "feeds_mm: [0.05, abc, .inf]");
-  try {
-    synthesize_campaign(d.write("spec.yaml", text), d.path() / "out");
-    ADD_FAILURE() << "no error";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("spec.yaml: key 'dyno.feeds_mm' must be a list of "
-                                         "finite numbers"),
-              std::string::npos)
-        << e.what();
-  }
+  const std::string e = synth_error("feeds_mm: [0.05, 0.10, 0.15]", "feeds_mm: [0.05, abc, .inf]");
+  EXPECT_NE(e.find("spec.yaml: key 'dyno.feeds_mm' must be a list of finite numbers"),
+            std::string::npos)
+      << e;
 }
 
 TEST(YamlStrict, RepeatRunsIsBounded) {

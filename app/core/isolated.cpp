@@ -1,0 +1,184 @@
+#include "app/core/isolated.h"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+
+#include "analysis/common/summary.h"
+
+namespace chatterlab::app {
+namespace {
+
+// The child's first reply byte: the work's bytes follow, or an error message.
+constexpr char kOk = 'o';
+constexpr char kInputError = 'i';
+constexpr char kOtherError = 'x';
+
+bool write_all(int fd, const char* data, std::size_t n) {
+  while (n > 0) {
+    const ssize_t w = ::write(fd, data, n);
+    if (w < 0 && errno == EINTR) continue;
+    if (w <= 0) return false;
+    data += w;
+    n -= static_cast<std::size_t>(w);
+  }
+  return true;
+}
+
+}  // namespace
+
+// The sanitizers' interface (sanitizer/common_interface_defs.h), weak: present only in a
+// sanitizer build.
+extern "C" void __sanitizer_set_death_callback(void (*callback)(void)) __attribute__((weak));
+
+namespace {
+
+[[noreturn]] void child(int fd, const std::function<std::string()>& work) {
+  // Under a sanitizer, a death callback the parent registered (libFuzzer's saves the current
+  // input as a crash of the parent's) must not run when the child dies: the child's end is
+  // reported to the parent, which goes on.
+  if (__sanitizer_set_death_callback != nullptr) __sanitizer_set_death_callback(nullptr);
+  char status = kOk;
+  std::string body;
+  try {
+    body = work();
+  } catch (const InputError& e) {
+    status = kInputError;
+    body = e.what();
+  } catch (const std::exception& e) {
+    status = kOtherError;
+    body = e.what();
+  } catch (...) {
+    status = kOtherError;
+    body = "unknown exception";
+  }
+  const bool ok = write_all(fd, &status, 1) && write_all(fd, body.data(), body.size());
+  // _exit: no atexit handlers or static destructors of the parent's state run in the child.
+  ::_exit(ok ? 0 : 3);
+}
+
+std::string signal_text(int sig) {
+  const char* name = ::sigabbrev_np(sig);
+  return "signal " + std::to_string(sig) + (name ? std::string(" (SIG") + name + ")" : "");
+}
+
+}  // namespace
+
+std::string run_isolated(const std::function<std::string()>& work, const IsolatedOptions& options) {
+  int fds[2];
+  if (::pipe2(fds, O_CLOEXEC) != 0) {
+    throw InputError(options.what +
+                     ": cannot start a reader process (pipe: " + std::strerror(errno) + ")");
+  }
+  std::fflush(nullptr);  // no buffered output written twice, by parent and child
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    const int err = errno;
+    ::close(fds[0]);
+    ::close(fds[1]);
+    throw InputError(options.what + ": cannot start a reader process (fork: " + std::strerror(err) +
+                     ")");
+  }
+  if (pid == 0) {
+    ::close(fds[0]);
+    child(fds[1], work);
+  }
+  ::close(fds[1]);
+
+  std::string reply;
+  bool timed_out = false;
+  const auto deadline = std::chrono::steady_clock::now() + options.time_limit;
+  char block[65536];
+  for (;;) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+        deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) {
+      timed_out = true;
+      break;
+    }
+    pollfd p{fds[0], POLLIN, 0};
+    const int r = ::poll(&p, 1, static_cast<int>(std::min<long long>(left.count(), 1 << 30)));
+    if (r < 0 && errno == EINTR) continue;
+    if (r < 0) break;
+    if (r == 0) continue;  // the deadline is checked above
+    const ssize_t n = ::read(fds[0], block, sizeof block);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;  // end of the reply (or a read error: judged by the exit status)
+    reply.append(block, static_cast<std::size_t>(n));
+  }
+  ::close(fds[0]);
+  if (timed_out) ::kill(pid, SIGKILL);
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+
+  if (timed_out) {
+    char limit[32];
+    std::snprintf(limit, sizeof limit, "%g", static_cast<double>(options.time_limit.count()) / 1e3);
+    throw InputError(options.what + ": not finished after " + limit +
+                     " s; stopped (a damaged file?)");
+  }
+  if (WIFSIGNALED(status)) {
+    throw InputError(options.what + ": the reader process was ended by " +
+                     signal_text(WTERMSIG(status)) + " (a damaged file the library cannot read)");
+  }
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || reply.empty()) {
+    throw InputError(options.what + ": the reader process failed (exit status " +
+                     std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +
+                     ", a damaged file the library cannot read)");
+  }
+  const char kind = reply[0];
+  reply.erase(0, 1);
+  if (kind == kOk) return reply;
+  if (kind == kInputError) throw InputError(reply);
+  throw InputError(options.what + ": " + reply);
+}
+
+void ByteWriter::u64(std::uint64_t v) {
+  bytes_.append(reinterpret_cast<const char*>(&v), sizeof v);
+}
+
+void ByteWriter::f64(const double* values, std::size_t n) {
+  bytes_.append(reinterpret_cast<const char*>(values), n * sizeof(double));
+}
+
+void ByteWriter::str(const std::string& s) {
+  u64(s.size());
+  bytes_.append(s);
+}
+
+void ByteReader::need(std::size_t n) const {
+  if (n > bytes_.size() - pos_) throw InputError(what_ + ": the reader process's reply is short");
+}
+
+std::uint64_t ByteReader::u64() {
+  need(sizeof(std::uint64_t));
+  std::uint64_t v = 0;
+  std::memcpy(&v, bytes_.data() + pos_, sizeof v);
+  pos_ += sizeof v;
+  return v;
+}
+
+void ByteReader::f64(double* out, std::size_t n) {
+  if (n > (bytes_.size() - pos_) / sizeof(double)) need(bytes_.size() - pos_ + 1);
+  std::memcpy(out, bytes_.data() + pos_, n * sizeof(double));
+  pos_ += n * sizeof(double);
+}
+
+std::string ByteReader::str() {
+  const std::uint64_t n = u64();
+  need(n);
+  std::string s = bytes_.substr(pos_, n);
+  pos_ += n;
+  return s;
+}
+
+}  // namespace chatterlab::app
