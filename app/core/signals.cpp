@@ -392,6 +392,11 @@ SignalTable SignalTable::open(const DataSpec& data, const std::string& label) {
     t.value_bytes_ = ext == ".f32" ? 4 : 8;
     t.names_ = data.channels;
     if (t.names_.empty()) throw InputError(label + ": data.channels is required for raw files");
+    if (t.names_.size() > kMaxChannels) {
+      throw InputError(label + ": data.channels names " + std::to_string(t.names_.size()) +
+                       " channels, more than the " + std::to_string(kMaxChannels) +
+                       " a signal file may have");
+    }
     t.mapped_ = std::make_unique<MappedFile>(data.file, label);
     const std::size_t frame = t.names_.size() * static_cast<std::size_t>(t.value_bytes_);
     if (t.mapped_->size() % frame != 0) {
@@ -550,6 +555,10 @@ void SignalTable::read_text(const DataSpec& data) {
 
   std::vector<std::string_view> cells;
   split_cells(header, delim, cells);
+  if (cells.size() > kMaxChannels + 1) {  // + 1: LabVIEW's trailing Comment column
+    fail("the header has " + std::to_string(cells.size()) + " columns, more than the " +
+         std::to_string(kMaxChannels) + " channels a signal file may have");
+  }
   for (auto c : cells) {
     // Quotes are gone (split_cells); blanks around a name are not part of it.
     while (!c.empty() && (c.front() == ' ' || c.front() == '\t')) c.remove_prefix(1);
@@ -563,6 +572,10 @@ void SignalTable::read_text(const DataSpec& data) {
   // LabVIEW's measurement files end the header with a Comment column that rows leave empty.
   const bool comment_column = names_.size() > 1 && comment_cell(names_.back());
   if (comment_column) names_.pop_back();
+  if (names_.size() > kMaxChannels) {
+    fail("the header has " + std::to_string(names_.size()) + " columns, more than the " +
+         std::to_string(kMaxChannels) + " channels a signal file may have");
+  }
   if (names_.size() == 1 && names_[0].empty()) {
     if (data.skip_lines > 0) {
       fail("line " + std::to_string(data.skip_lines + 1) +
@@ -616,6 +629,10 @@ void SignalTable::read_uff(const DataSpec& data) {
                        "' " + std::to_string(first->samples()) + " at dx " + sig6(first->dx) +
                        " s: every channel must share both");
     }
+    if (names_.size() == kMaxChannels) {
+      throw InputError(label_ + ": more than " + std::to_string(kMaxChannels) +
+                       " time records, the most channels a signal file may have");
+    }
     std::string name = f.id1;
     if (name.empty() || index_of(name) >= 0) name = "record " + std::to_string(names_.size());
     names_.push_back(name);
@@ -650,6 +667,11 @@ void SignalTable::read_mat(const DataSpec& data) {
         left_out.push_back(v.name + " (complex)");
       } else if (v.rows * v.cols <= 1) {
         left_out.push_back(v.name + (v.rows * v.cols == 1 ? " (scalar)" : " (empty)"));
+      } else if ((v.vector() ? 1 : v.cols) > kMaxChannels - candidates.size()) {
+        throw InputError(data.file.string() + ": more than " + std::to_string(kMaxChannels) +
+                         " channels (vectors and matrix columns; variable '" + v.name + "' is " +
+                         std::to_string(v.rows) + " x " + std::to_string(v.cols) +
+                         "), the most a signal file may have");
       } else if (v.vector()) {
         candidates.push_back({v.name, v.name, std::nullopt, v.rows * v.cols});
       } else {

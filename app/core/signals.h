@@ -35,6 +35,13 @@ bool is_text_signal_file(const std::filesystem::path& file);
 // Every extension SignalTable::open reads: text, raw, .uff/.unv and .mat (case-insensitive).
 bool is_signal_file(const std::filesystem::path& file);
 
+// The most channels a signal file may offer: columns of a text file, names of a raw file, time
+// records of a UFF file, vector variables and matrix columns of a .mat file. The largest
+// acquisition systems of a machining lab record a few hundred; a damaged file declaring more
+// (a .mat matrix of 11 million two-row columns fits in 20 kB compressed) is refused before
+// its channels are listed.
+inline constexpr std::size_t kMaxChannels = 4096;
+
 class SignalTable {
  public:
   // Opens `data.file`. Throws InputError naming the file for: missing file, a raw file whose

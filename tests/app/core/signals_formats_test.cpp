@@ -387,5 +387,44 @@ TEST(SignalsFormats, QuotedCellsRead) {
   EXPECT_EQ(message_of(spec(h)), "t/bad.csv: line 2, column 'response': 'x2' is not a number");
 }
 
+// kMaxChannels: a file offering more channels is refused before they are listed, in every
+// format (the message names the file and the count).
+TEST(SignalsFormats, MoreChannelsThanTheLimitAreRefusedInEveryFormat) {
+  static_assert(kMaxChannels == 4096);
+  TempDir d;
+  // Text: 4097 named columns (4096 pass, with one row).
+  auto csv = [&](std::size_t n) {
+    std::string head, row;
+    for (std::size_t k = 0; k < n; ++k) {
+      head += (k ? "," : "") + std::string("c") + std::to_string(k);
+      row += k ? ",1" : "1";
+    }
+    return d.write("wide" + std::to_string(n) + ".csv", head + "\n" + row + "\n");
+  };
+  DataSpec ok = spec(csv(4096));
+  EXPECT_EQ(SignalTable::open(ok, "t/" + ok.relative_file).names().size(), 4096u);
+  EXPECT_EQ(message_of(spec(csv(4097))),
+            "t/wide4097.csv: the header has 4097 columns, more than the 4096 channels a signal "
+            "file may have");
+  // Raw: data.channels longer than the limit.
+  DataSpec raw = spec(d.write("r.f64", std::string(8 * 4097, '\0')));
+  for (int k = 0; k < 4097; ++k) raw.channels.push_back("c" + std::to_string(k));
+  EXPECT_EQ(message_of(raw),
+            "t/r.f64: data.channels names 4097 channels, more than the 4096 a signal file may "
+            "have");
+  // .mat: a vector and a 2 x 4096 matrix (4097 channels).
+  const auto m = d.path() / "wide.mat";
+  mat::write_mat(m, {{"v", Eigen::RowVector2d(1, 2)}, {"M", Eigen::MatrixXd::Ones(2, 4096)}});
+  EXPECT_EQ(message_of(spec(m)),
+            "t/wide.mat: more than 4096 channels (vectors and matrix columns; variable 'M' is 2 x "
+            "4096), the most a signal file may have");
+  // UFF: 4097 time records.
+  std::vector<uff::Function58> records(4097, time_record("a", Eigen::Vector2d(1, 2), "N"));
+  const auto u = d.path() / "many.uff";
+  uff::write_uff58(u, records);
+  EXPECT_EQ(message_of(spec(u)),
+            "t/many.uff: more than 4096 time records, the most channels a signal file may have");
+}
+
 }  // namespace
 }  // namespace chatterlab::app
