@@ -1,6 +1,6 @@
 // mat::numeric_variables and read_vector (libmatio underneath) on .mat files, then
-// SignalTable::open on the same bytes as a .mat signal file. InputError is expected. v7.3
-// files are read by libhdf5 in child processes; a child's death is an InputError here.
+// SignalTable::open on the same bytes as a .mat signal file. InputError is expected. libmatio
+// runs in child processes (app/formats/matfile.cpp); a child's death is an InputError here.
 #include <cstddef>
 #include <cstdint>
 
@@ -12,16 +12,16 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const auto file = chatterlab::fuzz::write_input("signals.mat", data, size);
   try {
-    // The first vector whole and the first matrix's last column: each call is a reader process
-    // for a v7.3 file (matfile.cpp), so not one per variable.
-    bool vector = false, matrix = false;
+    // One read_vector: the first vector whole, or the first matrix's last column. Each call is
+    // a reader process (matfile.cpp), so not one per variable.
     for (const auto& v : chatterlab::app::mat::numeric_variables(file)) {
-      if (v.vector() && !vector) {
-        vector = true;
+      if (v.vector()) {
         (void)chatterlab::app::mat::read_vector(file, v.name);
-      } else if (!v.vector() && v.cols > 1 && !matrix) {
-        matrix = true;
+        break;
+      }
+      if (v.cols > 1) {
         (void)chatterlab::app::mat::read_vector(file, v.name, v.cols - 1);
+        break;
       }
     }
   } catch (const chatterlab::InputError&) {

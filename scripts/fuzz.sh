@@ -56,12 +56,17 @@ for t in "${targets[@]}"; do
   work="$build/fuzz-corpus/$t"
   artifacts="$build/fuzz-artifacts/$t"
   mkdir -p "$work" "$artifacts"
-  args=(-timeout=10 -rss_limit_mb=2048 -print_final_stats=1 "-artifact_prefix=$artifacts/")
+  # An allocation above 2 GB is a finding through ASan (max_allocation_size_mb) rather than
+  # libFuzzer's malloc limit: libFuzzer's hook also runs in the child processes .mat files are
+  # read in, where it would save the input as a crash of the target while the target goes on.
+  args=(-timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=1048576 -print_final_stats=1
+    "-artifact_prefix=$artifacts/")
   if [ -n "$runs" ]; then args+=("-runs=$runs"); else args+=("-max_total_time=$seconds"); fi
   if [ -f "$root/fuzz/$t.dict" ]; then args+=("-dict=$root/fuzz/$t.dict"); fi
   log="$build/fuzz-$t.log"
   echo "== $t"
-  if LSAN_OPTIONS="suppressions=$root/fuzz/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}" \
+  if ASAN_OPTIONS="max_allocation_size_mb=2048${ASAN_OPTIONS:+:$ASAN_OPTIONS}" \
+    LSAN_OPTIONS="suppressions=$root/fuzz/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}" \
     nice -n 19 "$build/fuzz/${t}_fuzz" "${args[@]}" "$work" "$root/fuzz/corpus/$t" >"$log" 2>&1; then
     result=ok
   else

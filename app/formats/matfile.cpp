@@ -100,6 +100,9 @@ class TagWalk {
 
  private:
   static constexpr std::uintmax_t kHeadBytes = 1024;
+  // The most dimensions a variable may have (MATLAB's own files: a handful; libmatio reads at
+  // most 13 from a compressed variable): the dimensions and the name tag fit in kHeadBytes.
+  static constexpr std::uintmax_t kMaxRank = 64;
 
   std::vector<unsigned char> read_at(std::uintmax_t offset, std::uintmax_t n) {
     std::vector<unsigned char> out(static_cast<std::size_t>(n));
@@ -131,23 +134,33 @@ class TagWalk {
   }
 
   // `head`: the first bytes of a matrix's contents; `length`: the bytes the matrix declares.
+  // Read as libmatio 1.5 reads it (mat5.c, Mat_VarReadNextInfo5): 16 bytes of array flags and
+  // an 8-byte dimensions tag at fixed places, whatever their tags say; the dimensions when that
+  // tag is miINT32 (5; count / 4 of them, allocated first, padded to 8 bytes); then the name,
+  // allocated from its tag when that is a full miINT8 (1) tag. A walk that read the array flags
+  // as a small element lost step with libmatio, which then allocated a 1.67 GB name (fuzzing
+  // finding 9, docs/fuzzing.md).
   std::string matrix(const std::vector<unsigned char>& head, std::uintmax_t length) const {
-    static const char* const kParts[] = {"array flags", "dimensions", "name"};
-    std::uintmax_t q = 0;
-    for (const char* part : kParts) {
-      if (length - q < 8 || head.size() < q + 8) return "";
-      std::uint32_t type = 0, count = 0;
-      if (tag(head.data() + q, &type, &count)) {
-        q += 8;
-        continue;
+    if (length < 24 || head.size() < 24) return "";  // libmatio's read fails: its own message
+    const auto too_long = [&](const char* part, std::uint32_t count) {
+      return std::string("its ") + part + " " + std::to_string(count) + " bytes, more than the " +
+             std::to_string(length) + " bytes of the variable (a damaged file)";
+    };
+    std::uintmax_t q = 24;
+    if (u32(head.data() + 16) == 5) {
+      const std::uint32_t count = u32(head.data() + 20);
+      if (count > length - 24) return too_long("dimensions declare", count);
+      const std::uintmax_t rank = count / 4;
+      if (rank > kMaxRank) {
+        return "its dimensions declare rank " + std::to_string(rank) + ", more than " +
+               std::to_string(kMaxRank) + " (a damaged file)";
       }
-      if (count > length - q - 8) {
-        return std::string("its ") + part + " declare " + std::to_string(count) +
-               " bytes, more than the " + std::to_string(length) +
-               " bytes of the variable (a damaged file)";
-      }
-      q += 8 + count + (8 - count % 8) % 8;
-      if (q > length) return "";
+      q += 4 * (rank + rank % 2);
+    }
+    if (q > length || length - q < 8 || head.size() < q + 8) return "";
+    if (u32(head.data() + q) == 1) {
+      const std::uint32_t count = u32(head.data() + q + 4);
+      if (count > length - q - 8) return too_long("name declares", count);
     }
     return "";
   }
@@ -205,19 +218,6 @@ std::string header_problem(const std::filesystem::path& file) {
   if (ec) return "";
   // "IM" read as bytes means the file was written little-endian.
   return TagWalk(in, size, !little).problem();
-}
-
-// Whether the file has a v7.3 header (an HDF5 file, read by libhdf5 under libmatio).
-bool v73_header(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::array<unsigned char, 128> h{};
-  if (!in.read(reinterpret_cast<char*>(h.data()), static_cast<std::streamsize>(h.size()))) {
-    return false;
-  }
-  const bool little = h[126] == 'I' && h[127] == 'M';
-  const bool big = h[126] == 'M' && h[127] == 'I';
-  const unsigned version = little ? (h[124] | (h[125] << 8)) : ((h[124] << 8) | h[125]);
-  return std::equal(h.begin(), h.begin() + 6, "MATLAB") && (little || big) && version == 0x0200;
 }
 
 File open_read(const std::filesystem::path& file) {
@@ -303,8 +303,7 @@ void check_declared_size(mat_t* m, const matvar_t& v, const std::filesystem::pat
   }
 }
 
-// The readers below run in this process for v5 files (checked by TagWalk first) and in a
-// child process for v7.3 files (see isolated() further down). The caller holds matio_mutex.
+// The readers below run in a child process (see isolated() further down).
 std::vector<Variable> numeric_variables_here(const std::filesystem::path& file) {
   File m = open_read(file);
   std::vector<Variable> out;
@@ -377,14 +376,23 @@ Eigen::VectorXd read_vector_here(const std::filesystem::path& file, const std::s
   return out;
 }
 
-// v7.3 files are HDF5 files, and libhdf5 (1.10.8 in Debian 12) is not safe on damaged ones: a
-// mutated v7.3 file overflowed a heap buffer inside H5O__attr_open_by_name (fuzzing finding 8,
-// docs/fuzzing.md), which would end the whole run. They are therefore read in a child process
-// (app/core/isolated.h): a crash, a hang or a corruption there skips that test with a message
-// naming the file, and the campaign goes on. A fork costs about a millisecond per call.
+// libmatio and libhdf5 are not safe on damaged files: a mutated v7.3 file made libhdf5 1.10.8
+// read past a freed buffer in H5O__attr_open_by_name (fuzzing finding 8, docs/fuzzing.md), and
+// libmatio's v5 reader allocates what the tags of nested cells and structs declare. Every .mat
+// file is therefore read in a child process (app/core/isolated.h): a crash, a hang or a
+// corruption there skips that test with a message naming the file, and the campaign goes on.
+// The header and the v5 tag walk (ours) run here first, for a clear message. A fork costs
+// well under a millisecond in a Release build; SignalTable reads a file in two.
+void check_header(const std::filesystem::path& file) {
+  if (!std::filesystem::exists(file)) throw InputError(file.string() + ": file not found");
+  if (const std::string why = header_problem(file); !why.empty()) {
+    throw InputError(file.string() + ": " + why);
+  }
+}
+
 IsolatedOptions isolated(const std::filesystem::path& file) {
   IsolatedOptions o;
-  o.what = file.string() + ": reading this v7.3 (HDF5) .mat file";
+  o.what = file.string() + ": reading this .mat file";
   return o;
 }
 
@@ -410,7 +418,7 @@ Eigen::MatrixXd get_matrix(ByteReader& r) {
 
 std::vector<Variable> numeric_variables(const std::filesystem::path& file) {
   const std::lock_guard<std::recursive_mutex> lock(matio_mutex);
-  if (!v73_header(file)) return numeric_variables_here(file);
+  check_header(file);
   const std::string bytes = run_isolated(
       [&] {
         ByteWriter w;
@@ -441,7 +449,7 @@ std::vector<Variable> numeric_variables(const std::filesystem::path& file) {
 std::vector<Eigen::MatrixXd> read_matrices(const std::filesystem::path& file,
                                            const std::vector<std::string>& names) {
   const std::lock_guard<std::recursive_mutex> lock(matio_mutex);
-  if (!v73_header(file)) return read_matrices_here(file, names);
+  check_header(file);
   const std::string bytes = run_isolated(
       [&] {
         ByteWriter w;
@@ -462,7 +470,7 @@ Eigen::MatrixXd read_matrix(const std::filesystem::path& file, const std::string
 Eigen::VectorXd read_vector(const std::filesystem::path& file, const std::string& name,
                             std::optional<std::size_t> column) {
   const std::lock_guard<std::recursive_mutex> lock(matio_mutex);
-  if (!v73_header(file)) return read_vector_here(file, name, column);
+  check_header(file);
   const std::string bytes = run_isolated(
       [&] {
         ByteWriter w;

@@ -1,7 +1,7 @@
 // MATLAB .mat files (v5 and v7.3, the latter HDF5-based) through libmatio: the numeric
 // variables of a file and one of them as a vector, for signal channels stored by MATLAB,
-// Simcenter, LabVIEW or scipy.io.savemat. v7.3 files are read in a child process (a damaged
-// one can crash libhdf5: fuzzing finding 8, docs/fuzzing.md).
+// Simcenter, LabVIEW or scipy.io.savemat. Files are read in a child process (a damaged one
+// can crash libhdf5 or make libmatio allocate gigabytes: docs/fuzzing.md, findings 8 and 9).
 #pragma once
 
 #include <Eigen/Core>
@@ -35,8 +35,7 @@ Eigen::VectorXd read_vector(const std::filesystem::path& file, const std::string
 // Variable `name` whole (rows x cols), under the same checks as read_vector.
 Eigen::MatrixXd read_matrix(const std::filesystem::path& file, const std::string& name);
 
-// Variables `names` whole, in one opening of the file (and, for a v7.3 file, one reader
-// process: v7.3 files are read by libhdf5 in a child process, see matfile.cpp).
+// Variables `names` whole, in one opening of the file (one reader process).
 std::vector<Eigen::MatrixXd> read_matrices(const std::filesystem::path& file,
                                            const std::vector<std::string>& names);
 

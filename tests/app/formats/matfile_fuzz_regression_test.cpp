@@ -152,7 +152,7 @@ TEST(MatfileFuzzRegression, TagsDeclaringMoreThanTheirElementAreRefusedBeforeLib
              std::to_string(bytes.size()) + "-byte file (a damaged file)");
 }
 
-// v7.3 files are read by libhdf5 in a child process (fuzzing finding 8): the values and the
+// .mat files are read in a child process (fuzzing findings 8 and 9): the values and the
 // messages are those of an in-process read.
 TEST(MatfileV73, ReadInAChildProcessGivesTheValuesAndMessages) {
   if (!v73_supported())
@@ -217,6 +217,26 @@ TEST(MatfileFuzzRegression, AV73FileThatOverflowedLibhdf5EndsInAnInputError) {
       EXPECT_EQ(std::string(e.what()).find(file.string() + ": "), 0u) << e.what();
       std::printf("call %d: %s\n", call, e.what());
     }
+  }
+}
+
+// Finding 9: a v5 file (1,302 bytes) whose second variable's array-flags tag reads as a small
+// element. The tag walk then read the rest out of step with libmatio, which reads the flags
+// and the dimensions tag at fixed places, and libmatio allocated the 1.67 GB its name tag
+// declared. The walk now reads the matrix as libmatio does.
+TEST(MatfileFuzzRegression, NameTagBeyondItsVariableIsRefusedBeforeLibmatio) {
+  const TempDir dir;
+  const auto file = dir.path() / "finding9.mat";
+  std::filesystem::copy_file(
+      std::filesystem::path(CHATTERLAB_TEST_DATA) / "matfile/finding9_name_tag.mat", file);
+  try {
+    numeric_variables(file);
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              file.string() +
+                  ": element 2 (at byte 504): its name declares 1668218885 bytes, more than the "
+                  "376 bytes of the variable (a damaged file)");
   }
 }
 
