@@ -25,7 +25,9 @@ struct IsolatedOptions {
 // with `what` and its message. A child that dies (a signal, a sanitizer report), exits without
 // a reply, or outlives the time limit gives an InputError naming `what` and how it ended.
 // The caller must hold whatever locks work() needs: the child has only the calling thread,
-// and must not take a lock another thread may have held at the fork.
+// and must not take a lock another thread may have held at the fork. In a build with GCC's
+// AddressSanitizer (make sanitize), whose allocator is not fork-safe, work() runs in this
+// process when other threads exist (isolated.cpp).
 std::string run_isolated(const std::function<std::string()>& work, const IsolatedOptions& options);
 
 // Little helpers to pass values through the bytes: fixed-width integers and doubles in the
