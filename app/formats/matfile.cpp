@@ -220,12 +220,9 @@ std::string header_problem(const std::filesystem::path& file) {
   return TagWalk(in, size, !little).problem();
 }
 
+// Opens a file whose header check_header (below) passed, in the reader process.
 File open_read(const std::filesystem::path& file) {
   init_log();
-  if (!std::filesystem::exists(file)) throw InputError(file.string() + ": file not found");
-  if (const std::string why = header_problem(file); !why.empty()) {
-    throw InputError(file.string() + ": " + why);
-  }
   File m(Mat_Open(file.c_str(), MAT_ACC_RDONLY));
   if (!m) {
     throw InputError(file.string() + ": not a MATLAB .mat file libmatio can read (v5, v7.3)" +
@@ -414,14 +411,29 @@ Eigen::MatrixXd get_matrix(ByteReader& r) {
   return m;
 }
 
-}  // namespace
-
-std::vector<Variable> numeric_variables(const std::filesystem::path& file) {
+// After check_header, `read` fills the reply in a reader process and `decode` reads it back.
+template <typename Read, typename Decode>
+auto through_reader(const std::filesystem::path& file, const Read& read, const Decode& decode) {
   const std::lock_guard<std::recursive_mutex> lock(matio_mutex);
   check_header(file);
+  const IsolatedOptions options = isolated(file);
   const std::string bytes = run_isolated(
       [&] {
         ByteWriter w;
+        read(w);
+        return w.take();
+      },
+      options);
+  ByteReader r(bytes, options.what);
+  return decode(r);
+}
+
+}  // namespace
+
+std::vector<Variable> numeric_variables(const std::filesystem::path& file) {
+  return through_reader(
+      file,
+      [&](ByteWriter& w) {
         const auto vars = numeric_variables_here(file);
         w.u64(vars.size());
         for (const auto& v : vars) {
@@ -430,37 +442,33 @@ std::vector<Variable> numeric_variables(const std::filesystem::path& file) {
           w.u64(v.cols);
           w.u64(v.complex ? 1 : 0);
         }
-        return w.take();
       },
-      isolated(file));
-  ByteReader r(bytes, isolated(file).what);
-  std::vector<Variable> out;
-  for (std::uint64_t n = r.u64(), i = 0; i < n; ++i) {
-    Variable v;
-    v.name = r.str();
-    v.rows = r.u64();
-    v.cols = r.u64();
-    v.complex = r.u64() != 0;
-    out.push_back(std::move(v));
-  }
-  return out;
+      [](ByteReader& r) {
+        std::vector<Variable> out;
+        for (std::uint64_t n = r.u64(), i = 0; i < n; ++i) {
+          Variable v;
+          v.name = r.str();
+          v.rows = r.u64();
+          v.cols = r.u64();
+          v.complex = r.u64() != 0;
+          out.push_back(std::move(v));
+        }
+        return out;
+      });
 }
 
 std::vector<Eigen::MatrixXd> read_matrices(const std::filesystem::path& file,
                                            const std::vector<std::string>& names) {
-  const std::lock_guard<std::recursive_mutex> lock(matio_mutex);
-  check_header(file);
-  const std::string bytes = run_isolated(
-      [&] {
-        ByteWriter w;
+  return through_reader(
+      file,
+      [&](ByteWriter& w) {
         for (const auto& m : read_matrices_here(file, names)) put_matrix(w, m);
-        return w.take();
       },
-      isolated(file));
-  ByteReader r(bytes, isolated(file).what);
-  std::vector<Eigen::MatrixXd> out;
-  for (std::size_t i = 0; i < names.size(); ++i) out.push_back(get_matrix(r));
-  return out;
+      [&](ByteReader& r) {
+        std::vector<Eigen::MatrixXd> out;
+        for (std::size_t i = 0; i < names.size(); ++i) out.push_back(get_matrix(r));
+        return out;
+      });
 }
 
 Eigen::MatrixXd read_matrix(const std::filesystem::path& file, const std::string& name) {
@@ -469,17 +477,9 @@ Eigen::MatrixXd read_matrix(const std::filesystem::path& file, const std::string
 
 Eigen::VectorXd read_vector(const std::filesystem::path& file, const std::string& name,
                             std::optional<std::size_t> column) {
-  const std::lock_guard<std::recursive_mutex> lock(matio_mutex);
-  check_header(file);
-  const std::string bytes = run_isolated(
-      [&] {
-        ByteWriter w;
-        put_matrix(w, read_vector_here(file, name, column));
-        return w.take();
-      },
-      isolated(file));
-  ByteReader r(bytes, isolated(file).what);
-  return get_matrix(r).col(0);
+  return through_reader(
+      file, [&](ByteWriter& w) { put_matrix(w, read_vector_here(file, name, column)); },
+      [](ByteReader& r) { return Eigen::VectorXd(get_matrix(r).col(0)); });
 }
 
 bool v73_supported() {
