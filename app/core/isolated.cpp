@@ -13,6 +13,7 @@
 #include <exception>
 #include <filesystem>
 #include <system_error>
+#include <utility>
 
 #include "analysis/common/summary.h"
 
@@ -43,44 +44,37 @@ extern "C" void __sanitizer_set_death_callback(void (*callback)(void)) __attribu
 
 namespace {
 
+// The work's outcome as a reply: a status byte, then the bytes or the error message.
+std::string reply_of(const std::function<std::string()>& work) {
+  try {
+    return kOk + work();
+  } catch (const InputError& e) {
+    return kInputError + std::string(e.what());
+  } catch (const std::exception& e) {
+    return kOtherError + std::string(e.what());
+  } catch (...) {
+    return kOtherError + std::string("unknown exception");
+  }
+}
+
+// The bytes of a reply, or its error thrown as an InputError.
+std::string from_reply(std::string reply, const IsolatedOptions& options) {
+  return from_reply(std::move(reply), options);
+}
+
 [[noreturn]] void child(int fd, const std::function<std::string()>& work) {
   // Under a sanitizer, a death callback the parent registered (libFuzzer's saves the current
   // input as a crash of the parent's) must not run when the child dies: the child's end is
   // reported to the parent, which goes on.
   if (__sanitizer_set_death_callback != nullptr) __sanitizer_set_death_callback(nullptr);
-  char status = kOk;
-  std::string body;
-  try {
-    body = work();
-  } catch (const InputError& e) {
-    status = kInputError;
-    body = e.what();
-  } catch (const std::exception& e) {
-    status = kOtherError;
-    body = e.what();
-  } catch (...) {
-    status = kOtherError;
-    body = "unknown exception";
-  }
-  const bool ok = write_all(fd, &status, 1) && write_all(fd, body.data(), body.size());
+  const std::string reply = reply_of(work);
   // _exit: no atexit handlers or static destructors of the parent's state run in the child.
-  ::_exit(ok ? 0 : 3);
+  ::_exit(write_all(fd, reply.data(), reply.size()) ? 0 : 3);
 }
 
 std::string signal_text(int sig) {
   const char* name = ::sigabbrev_np(sig);
   return "signal " + std::to_string(sig) + (name ? std::string(" (SIG") + name + ")" : "");
-}
-
-std::string in_this_process(const std::function<std::string()>& work,
-                            const IsolatedOptions& options) {
-  try {
-    return work();
-  } catch (const InputError&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw InputError(options.what + ": " + e.what());
-  }
 }
 
 // Whether this process has threads besides the caller (Linux: /proc/self/task).
@@ -109,7 +103,7 @@ constexpr bool kForkOnlySingleThreaded = false;
 }  // namespace
 
 std::string run_isolated(const std::function<std::string()>& work, const IsolatedOptions& options) {
-  if (kForkOnlySingleThreaded && other_threads()) return in_this_process(work, options);
+  if (kForkOnlySingleThreaded && other_threads()) return from_reply(reply_of(work), options);
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0) {
     throw InputError(options.what +
