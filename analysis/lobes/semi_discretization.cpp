@@ -91,7 +91,8 @@ struct SpeedModel {
   std::vector<Eigen::MatrixXd> W;  // per interval, d x d (empty when not engaged)
 };
 
-// State size S = 2 d fixed at compile time when known (one mode per axis: 4), else Dynamic.
+// State size S = 2 d fixed at compile time for d <= 4 modes in all (one mode per axis: 4; two
+// per axis: 8), else Dynamic (Eigen's matrix exponential then allocates per interval).
 template <int S>
 class Kernel {
  public:
@@ -297,6 +298,10 @@ LobesResult semi_discretization(const LobesInput& in, const SemiDiscretizationOp
     solve_all<2>(in, o, r.speeds);
   } else if (d == 2) {
     solve_all<4>(in, o, r.speeds);
+  } else if (d == 3) {
+    solve_all<6>(in, o, r.speeds);
+  } else if (d == 4) {
+    solve_all<8>(in, o, r.speeds);
   } else {
     solve_all<Eigen::Dynamic>(in, o, r.speeds);
   }

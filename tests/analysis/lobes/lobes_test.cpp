@@ -8,6 +8,7 @@
 
 #include "analysis/common/constants.h"
 #include "analysis/milling/simulation.h"
+#include "tests/support/count_allocations.h"
 #include "tests/support/record_property.h"
 
 namespace chatterlab {
@@ -341,6 +342,40 @@ TEST(SemiDiscretization, SplitModesPerAxisEqualTheSingleMode) {
     EXPECT_NEAR(*b.speeds[i].limit_depth_m / *a.speeds[i].limit_depth_m, 1.0, 2e-3);
     ASSERT_TRUE(za.speeds[i].limit_depth_m && zb.speeds[i].limit_depth_m);
     EXPECT_NEAR(*zb.speeds[i].limit_depth_m / *za.speeds[i].limit_depth_m, 1.0, 1e-9);
+  }
+}
+
+// No heap allocation per depth evaluation: at a speed stable up to the largest depth the scan
+// evaluates coarse_depths depths, and 16 or 48 of them allocate the same (per-speed buffers
+// only). One and two modes per axis (fixed-size states 4 and 8; above 4 modes in all the sizes
+// are dynamic and Eigen's matrix exponential allocates its temporaries).
+TEST(SemiDiscretization, DepthEvaluationsAllocateNothing) {
+  if (!kCountingMalloc) GTEST_SKIP() << "malloc not counted under AddressSanitizer";
+  for (const int modes_per_axis : {1, 2}) {
+    SCOPED_TRACE(modes_per_axis);
+    LobesInput in = benchmark_1dof(milling::Operation::kDownMilling, 0.05);
+    in.y_modes = in.x_modes;
+    if (modes_per_axis == 2) {
+      in.x_modes.push_back(mode(0.1, 2000.0, 0.03));
+      in.y_modes.push_back(mode(0.1, 2100.0, 0.03));
+    }
+    in.spindle_rpm = {15000.0};
+    in.max_depth_m = 0.05e-3;  // stable: every scan point evaluated
+    long counts[2] = {0, 0};
+    int i = 0;
+    for (const int coarse : {16, 48}) {
+      SemiDiscretizationOptions o;
+      o.coarse_depths = coarse;
+      chatterlab::testing::g_allocations = 0;
+      chatterlab::testing::g_counting = true;
+      const LobesResult r = semi_discretization(in, o);
+      chatterlab::testing::g_counting = false;
+      ASSERT_FALSE(r.speeds[0].limit_depth_m.has_value());
+      counts[i++] = chatterlab::testing::g_allocations;
+    }
+    record_and_print("allocations_16_depths", static_cast<double>(counts[0]));
+    record_and_print("allocations_per_depth", static_cast<double>(counts[1] - counts[0]) / 32.0);
+    EXPECT_EQ(counts[0], counts[1]);
   }
 }
 
