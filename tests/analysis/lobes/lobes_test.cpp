@@ -149,6 +149,16 @@ std::vector<SimCase> sim_cases() {
     cases.push_back({"benchmark_xy_down_0.05_flip_lobe", in,
                      std::uniform_real_distribution<double>(18900.0, 20300.0)(rng), 60, true});
   }
+  {
+    // Not drawn: the second case's tool down-milling at 10,138 rpm, where ZOA and SD differ by a
+    // factor 2 (UpMillingHalfImmersionAgreesWithZeroOrderSpeedBySpeed): the simulator decides.
+    LobesInput in = cases[1].in;
+    in.teeth = 4;
+    in.Kt_N_m2.assign(4, 8e8);
+    in.Kr_N_m2.assign(4, 3e8);
+    in.operation = milling::Operation::kDownMilling;
+    cases.push_back({"four_teeth_down_half_10138", in, 10138.0, 30});
+  }
   return cases;
 }
 
@@ -274,6 +284,36 @@ TEST(SemiDiscretization, SlotMinimumAgreesWithZeroOrder) {
     record_and_print("slot_zoa_min_mm_N" + std::to_string(n), zoa_min * 1e3);
     EXPECT_NEAR(sd_min / zoa_min, 1.0, 0.03);
   }
+}
+
+// Lobe positions (the ZOA's phase relation): four teeth, up-milling at half immersion (one
+// tooth always in the cut), different x and y modes: ZOA and SD agree speed by speed over 30
+// speeds of 3,000-12,000 rpm (lobes k = 2..12). Measured: largest difference 5.7 % (3,310 rpm),
+// most below 3 %. Tolerance 8 %. (In down-milling the same tool differs by up to a factor 2
+// at some speeds, e.g. 10,138 rpm: SD 0.57 mm Hopf, ZOA 1.14 mm; the SD there is the one the
+// simulator test supports, see docs/lobes.md.)
+TEST(SemiDiscretization, UpMillingHalfImmersionAgreesWithZeroOrderSpeedBySpeed) {
+  LobesInput in;
+  in.teeth = 4;
+  in.radius_m = 8e-3;
+  in.Kt_N_m2.assign(4, 8e8);
+  in.Kr_N_m2.assign(4, 3e8);
+  in.operation = milling::Operation::kUpMilling;
+  in.radial_immersion_m = 8e-3;
+  in.x_modes = {mode(0.05, 700.0, 0.02)};
+  in.y_modes = {mode(0.04, 900.0, 0.015)};
+  in.spindle_rpm = grid(3000.0, 12000.0, 30);
+  const LobesResult sd = semi_discretization(in);
+  const LobesResult zoa = zero_order(in).lobes;
+  double worst = 0.0;
+  for (std::size_t i = 0; i < in.spindle_rpm.size(); ++i) {
+    SCOPED_TRACE(in.spindle_rpm[i]);
+    ASSERT_TRUE(sd.speeds[i].limit_depth_m && zoa.speeds[i].limit_depth_m);
+    const double rel = *sd.speeds[i].limit_depth_m / *zoa.speeds[i].limit_depth_m - 1.0;
+    worst = std::max(worst, std::abs(rel));
+    EXPECT_LT(std::abs(rel), 0.08);
+  }
+  record_and_print("up_half_worst_rel_diff", worst);
 }
 
 // --- Revolution period against tooth period ----------------------------------------------------
