@@ -251,10 +251,12 @@ TEST(SemiDiscretization, SimulatorDecaysBelowAndGrowsAboveTheLimit) {
 
 // Independent check for full immersion: in slotting with the same mode on x and y the
 // zero-order and the semi-discretized boundaries agree closely (the directional matrix varies
-// little), here their minimum: ZOA's over 400 speeds (3,000-15,000 rpm), SD's over 81 speeds
+// little), here their minimum: ZOA's over 400 speeds (3,000-15,000 rpm), SD's over 41 speeds
 // within 8 % of the ZOA's lowest point (its neighbouring lobes included). Measured SD / ZOA - 1:
-// +1.4 % (N = 2), -2.0 % (3), +0.5 % (4). Tolerance 3 %: the time variation of the directional
-// matrix that ZOA averages out, SD's discretization (m = 30), the 0.1 % bisection, the grids.
+// +1.4 % (N = 2), +0.3 % (3), +0.5 % (4); with 81 speeds N = 3 gave -2.0 % (a narrow dip of
+// the SD boundary between two grid points). Tolerance 3 %: the time variation of the
+// directional matrix that ZOA averages out, SD's discretization (m = 30), the 0.1 % bisection,
+// the grids.
 TEST(SemiDiscretization, SlotMinimumAgreesWithZeroOrder) {
   for (const int n : {2, 3, 4}) {
     SCOPED_TRACE(n);
@@ -272,9 +274,9 @@ TEST(SemiDiscretization, SlotMinimumAgreesWithZeroOrder) {
         zoa_rpm = s.spindle_rpm;
       }
     }
-    // SD only around the ZOA's lowest lobe bottom (+-8 %, 81 speeds, 0.2 % apart), to keep the
+    // SD only around the ZOA's lowest lobe bottom (+-8 %, 41 speeds, 0.4 % apart), to keep the
     // test short.
-    in.spindle_rpm = grid(0.92 * zoa_rpm, 1.08 * zoa_rpm, 81);
+    in.spindle_rpm = grid(0.92 * zoa_rpm, 1.08 * zoa_rpm, 41);
     const LobesResult sd = semi_discretization(in);
     double sd_min = 1.0;
     for (const SpeedResult& s : sd.speeds) {
