@@ -22,10 +22,11 @@ ModalParameters mode(double m_kg, double fn_hz, double zeta) {
   return {m_kg, 2.0 * zeta * m_kg * wn, m_kg * wn * wn};
 }
 
-// The single-degree-of-freedom milling benchmark of Insperger & Stepan (IS2004 sec. 5; also
-// Ding, Zhu, Zhang, Ding, Int. J. Mach. Tools Manuf. 50 (2010) 502-509, sec. 4): N = 2,
+// The single-degree-of-freedom milling benchmark of Insperger & Stepan (their 2004 paper and
+// book; also Ding, Zhu, Zhang, Ding, Int. J. Mach. Tools Manuf. 50 (2010) 502-509): N = 2,
 // Kt = 6e8, Kn = 2e8 N/m^2, fn = 922 Hz, zeta = 0.011, m = 0.03993 kg, flexible along the feed
-// (x) only. a/D = radial immersion over diameter.
+// (x) only. a/D = radial immersion over diameter. Parameters only: no printed limit depths of
+// those papers are reproduced here (the checks are closed forms, the simulator and ZOA).
 LobesInput benchmark_1dof(milling::Operation op, double a_over_D) {
   LobesInput in;
   in.teeth = 2;
