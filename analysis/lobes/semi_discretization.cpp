@@ -17,7 +17,8 @@
 // The discrete map on Y_i = [z_i; q_{i-1}; ...; q_{i-m}] (IS2004 eq. 18, the delayed part a
 // shift) is applied to the monodromy matrix row block by row block (no dense products), and
 // the Floquet transition matrix over the principal period T (IS2004 eq. 20) is tested by its
-// eigenvalues: stable iff all |mu| < 1.
+// eigenvalues: stable iff all |mu| < 1. Delayed blocks that no engaged interval reads leave
+// zero columns; the eigenvalues are taken of the submatrix without them (set_speed).
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <chrono>
@@ -119,11 +120,9 @@ class Kernel {
     E_.block(0, s_, s_, s_).setIdentity();
     E_.block(s_, 2 * s_, s_, s_).setIdentity();
     X_.resize(D_, D_);
-    Xc_.resize(D_, D_);
     top_.resize(s_, D_);
     R1_.resize(s_, d_);
     R0_.resize(s_, d_);
-    es_ = Eigen::EigenSolver<Eigen::MatrixXd>(D_);
     window_ = milling::engagement_window(in.operation, in.radius_m, in.radial_immersion_m);
     revolution_ = o.force_revolution_period || !equal_teeth(in);
     fdom_hz_ = dominant_frequency_hz(modes_);
@@ -154,6 +153,29 @@ class Kernel {
       model_.W[static_cast<std::size_t>(i)] = W;
     }
     phi_free_ = (A_ * model_.dt_s).exp();
+    // Columns of the monodromy matrix that can be non-zero: z_0, and the initial delayed block
+    // q_{-j} (1 <= j <= m) only if a step reads it, i.e. step m - 1 - j (as q_{i-m+1}) or step
+    // m - j (as q_{i-m}) is engaged; every other block is shifted out unread, its column stays 0.
+    // For X = X[:, C] E_C^T the non-zero eigenvalues are those of the principal submatrix
+    // X[C, C]: at low immersion a far smaller eigenvalue problem (same multipliers).
+    std::vector<bool> used(static_cast<std::size_t>(m_ + 1), false);
+    for (int i = 0; i < model_.intervals; ++i) {
+      if (model_.W[static_cast<std::size_t>(i)].size() == 0) continue;
+      for (const int j : {m_ - 1 - i, m_ - i}) {
+        if (j >= 1 && j <= m_) used[static_cast<std::size_t>(j)] = true;
+      }
+    }
+    cols_.clear();
+    for (int r = 0; r < s_; ++r) cols_.push_back(r);
+    for (int j = 1; j <= m_; ++j) {
+      if (!used[static_cast<std::size_t>(j)]) continue;
+      for (int r = 0; r < d_; ++r) cols_.push_back(s_ + (j - 1) * d_ + r);
+    }
+    const auto c = static_cast<Eigen::Index>(cols_.size());
+    if (Xc_.rows() != c) {
+      Xc_.resize(c, c);
+      es_ = Eigen::EigenSolver<Eigen::MatrixXd>(c);
+    }
   }
 
   // Critical (largest-modulus) Floquet multiplier at depth b.
@@ -185,7 +207,10 @@ class Kernel {
       X_.middleRows(s_, d_) = X_.topRows(d_);
       X_.topRows(s_) = top_;
     }
-    Xc_ = X_;
+    const auto c = static_cast<Eigen::Index>(cols_.size());
+    for (Eigen::Index a = 0; a < c; ++a) {
+      for (Eigen::Index k = 0; k < c; ++k) Xc_(a, k) = X_(cols_[a], cols_[k]);
+    }
     es_.compute(Xc_, false);
     const auto& ev = es_.eigenvalues();
     Eigen::Index k = 0;
@@ -258,7 +283,8 @@ class Kernel {
   MatS A_, phi_free_;
   MatE E_, Ex_;
   RowMat X_, top_;
-  Eigen::MatrixXd Xc_;
+  Eigen::MatrixXd Xc_;     // X[C, C]
+  std::vector<int> cols_;  // C: the columns of X that can be non-zero (set_speed)
   MatSd R1_, R0_;
   Eigen::EigenSolver<Eigen::MatrixXd> es_;
   milling::EngagementWindow window_;
