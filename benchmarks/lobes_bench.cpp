@@ -45,6 +45,18 @@ BENCHMARK(BM_LobesSemiDiscretization200Speeds)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
+// The worst case for the eigenvalue problem: slotting, every delayed block read (64 x 64).
+void BM_LobesSemiDiscretization200SpeedsSlot(benchmark::State& state) {
+  LobesInput in = diagram();
+  in.radial_immersion_m = 2.0 * in.radius_m;
+  for (auto _ : state) {
+    const LobesResult r = semi_discretization(in);
+    benchmark::DoNotOptimize(r.speeds.data());
+  }
+  state.SetItemsProcessed(state.iterations() * 200);
+}
+BENCHMARK(BM_LobesSemiDiscretization200SpeedsSlot)->Unit(benchmark::kMillisecond);
+
 void BM_LobesZeroOrder200Speeds(benchmark::State& state) {
   const LobesInput in = diagram();
   for (auto _ : state) {
