@@ -422,6 +422,23 @@ TEST(SemiDiscretization, DepthEvaluationsAllocateNothing) {
   }
 }
 
+// Speeds split over two threads give the same numbers as one thread (exactly: each speed is
+// computed by the same code on its own buffers).
+TEST(SemiDiscretization, TwoThreadsGiveTheSameResults) {
+  LobesInput in = benchmark_1dof(milling::Operation::kDownMilling, 0.05);
+  in.y_modes = in.x_modes;
+  in.spindle_rpm = grid(5000.0, 25000.0, 21);
+  SemiDiscretizationOptions two;
+  two.threads = 2;
+  const LobesResult a = semi_discretization(in);
+  const LobesResult b = semi_discretization(in, two);
+  for (std::size_t i = 0; i < in.spindle_rpm.size(); ++i) {
+    EXPECT_EQ(a.speeds[i].limit_depth_m, b.speeds[i].limit_depth_m) << i;
+    EXPECT_EQ(a.speeds[i].chatter_hz, b.speeds[i].chatter_hz) << i;
+    EXPECT_EQ(a.speeds[i].type, b.speeds[i].type) << i;
+  }
+}
+
 // --- Input errors ---------------------------------------------------------------------------
 
 TEST(Lobes, InvalidInputNamesTheField) {
