@@ -1,0 +1,349 @@
+// Method 1 of lobes.h: first-order semi-discretization, Insperger & Stepan, "Updated
+// semi-discretization method for periodic delay-differential equations with discrete delay",
+// Int. J. Numer. Meth. Engng 61 (2004) 117-141 ("IS2004"), and their book "Semi-Discretization
+// for Time-Delay Systems" (Springer 2011, ch. 3).
+//
+// First-order form of lobes.h's model, z = [q; q'] (q: all x modes, then all y modes, d of them):
+//   z'(t) = (A + b B(t)) z(t) - b B(t) z(t - tau),   A = [0 I; -M^-1 K  -M^-1 C],
+//   B(t) = [0 0; W(t) 0],   W(t) = M^-1 P^T H(t) P   (P: 2 x d, x = sum of x modes' q, ...).
+// On interval [t_i, t_i + dt], dt = tau / m, B is replaced by its mean B_i (exact mean of H over
+// the interval's angles, directional.h) and the delayed state by the linear interpolation
+// of q_{i-m+1}, q_{i-m} (IS2004 eq. 11, first order). The exact solution of that ODE
+// (IS2004 eqs 13-16) gives
+//   z_{i+1} = Phi_i z_i + G1_i Bd_i q_{i-m+1} + (G0_i - G1_i) Bd_i q_{i-m},   Bd_i = -b W_i,
+//   Phi_i = exp(A_i dt), G0_i = int_0^dt exp(A_i s) ds, G1_i = int_0^dt exp(A_i s)(dt - s)/dt ds
+// (A_i = A + b B_i), all three from one exponential of the Van Loan block matrix
+//   exp([A_i dt  I  0; 0 0 I; 0 0 0]) = [Phi_i  G0_i/dt  G1_i/dt; ...].
+// The discrete map on Y_i = [z_i; q_{i-1}; ...; q_{i-m}] (IS2004 eq. 18, the delayed part a
+// shift) is applied to the monodromy matrix row block by row block (no dense products), and
+// the Floquet transition matrix over the principal period T (IS2004 eq. 20) is tested by its
+// eigenvalues: stable iff all |mu| < 1. Delayed blocks that no engaged interval reads leave
+// zero columns; the eigenvalues are taken of the submatrix without them (set_speed).
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <complex>
+#include <cstring>
+#include <limits>
+#include <thread>
+#include <unsupported/Eigen/MatrixFunctions>
+
+#include "analysis/common/constants.h"
+#include "analysis/common/require.h"
+#include "analysis/lobes/directional.h"
+#include "analysis/lobes/lobes.h"
+#include "analysis/milling/engagement.h"
+
+namespace chatterlab {
+namespace lobes {
+namespace {
+
+void validate_options(const SemiDiscretizationOptions& o) {
+  require_rule(o.steps_per_tooth >= 2, "semi_discretization.steps_per_tooth", o.steps_per_tooth,
+               "must be >= 2");
+  require_rule(o.coarse_depths >= 1, "semi_discretization.coarse_depths", o.coarse_depths,
+               "must be >= 1");
+  require_rule(std::isfinite(o.depth_rel_tol) && o.depth_rel_tol > 0.0 && o.depth_rel_tol < 1.0,
+               "semi_discretization.depth_rel_tol", o.depth_rel_tol, "must be > 0 and < 1");
+  require_rule(o.threads >= 1, "semi_discretization.threads", o.threads, "must be >= 1");
+}
+
+bool equal_teeth(const LobesInput& in) {
+  for (int p = 1; p < in.teeth; ++p) {
+    if (in.Kt_N_m2[p] != in.Kt_N_m2[0] || in.Kr_N_m2[p] != in.Kr_N_m2[0]) return false;
+  }
+  return true;
+}
+
+struct Mode {
+  int axis;  // 0: x, 1: y
+  ModalParameters p;
+};
+
+std::vector<Mode> all_modes(const LobesInput& in) {
+  std::vector<Mode> modes;
+  for (const ModalParameters& p : in.x_modes) modes.push_back({0, p});
+  for (const ModalParameters& p : in.y_modes) modes.push_back({1, p});
+  return modes;
+}
+
+// Natural frequency of the mode with the highest receptance peak, about 1 / (c omega_n)
+// (= 1 / (2 k zeta)): the reference of the chatter-frequency rule (docs/lobes.md).
+double dominant_frequency_hz(const std::vector<Mode>& modes) {
+  double best = -1.0, fn = 0.0;
+  for (const Mode& m : modes) {
+    const double wn = std::sqrt(m.p.k_N_m / m.p.m_kg);
+    const double peak =
+        m.p.c_kg_s > 0.0 ? 1.0 / (m.p.c_kg_s * wn) : std::numeric_limits<double>::infinity();
+    if (peak > best) {
+      best = peak;
+      fn = wn / kTwoPi;
+    }
+  }
+  return fn;
+}
+
+// Depth-independent part of one speed's discrete map.
+struct SpeedModel {
+  double dt_s = 0.0;
+  double period_s = 0.0;
+  int intervals = 0;               // K = m (tooth period) or N m (revolution)
+  std::vector<Eigen::MatrixXd> W;  // per interval, d x d (empty when not engaged)
+};
+
+// State size S = 2 d fixed at compile time for d <= 4 modes in all (one mode per axis: 4; two
+// per axis: 8), else Dynamic (Eigen's matrix exponential then allocates per interval).
+template <int S>
+class Kernel {
+ public:
+  using MatS = Eigen::Matrix<double, S, S>;
+  static constexpr int S3 = S == Eigen::Dynamic ? Eigen::Dynamic : 3 * S;
+  using MatE = Eigen::Matrix<double, S3, S3>;
+  using MatSd = Eigen::Matrix<double, S, Eigen::Dynamic>;
+  using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+  Kernel(const LobesInput& in, const SemiDiscretizationOptions& o)
+      : in_(in), o_(o), modes_(all_modes(in)) {
+    d_ = static_cast<int>(modes_.size());
+    s_ = 2 * d_;
+    m_ = o.steps_per_tooth;
+    D_ = s_ + m_ * d_;
+    A_ = MatS::Zero(s_, s_);
+    for (int a = 0; a < d_; ++a) {
+      const ModalParameters& p = modes_[static_cast<std::size_t>(a)].p;
+      A_(a, d_ + a) = 1.0;
+      A_(d_ + a, a) = -p.k_N_m / p.m_kg;
+      A_(d_ + a, d_ + a) = -p.c_kg_s / p.m_kg;
+    }
+    E_ = MatE::Zero(3 * s_, 3 * s_);
+    E_.block(0, s_, s_, s_).setIdentity();
+    E_.block(s_, 2 * s_, s_, s_).setIdentity();
+    X_.resize(D_, D_);
+    top_.resize(s_, D_);
+    R1_.resize(s_, d_);
+    R0_.resize(s_, d_);
+    window_ = milling::engagement_window(in.operation, in.radius_m, in.radial_immersion_m);
+    revolution_ = o.force_revolution_period || !equal_teeth(in);
+    fdom_hz_ = dominant_frequency_hz(modes_);
+  }
+
+  void set_speed(double rpm) {
+    const int n = in_.teeth;
+    const double tau = 60.0 / (n * rpm);
+    model_.dt_s = tau / m_;
+    model_.intervals = revolution_ ? n * m_ : m_;
+    model_.period_s = model_.dt_s * model_.intervals;
+    const double dtheta = kTwoPi / (n * m_);
+    model_.W.assign(static_cast<std::size_t>(model_.intervals), Eigen::MatrixXd());
+    for (int i = 0; i < model_.intervals; ++i) {
+      Eigen::Matrix2d H = Eigen::Matrix2d::Zero();
+      for (int p = 0; p < n; ++p) {
+        H += engaged_integral(in_.Kt_N_m2[p], in_.Kr_N_m2[p], i * dtheta + p * kTwoPi / n, dtheta,
+                              window_.entry_rad, window_.exit_rad);
+      }
+      if (H.isZero(0.0)) continue;
+      H /= dtheta;  // mean of H(t) over the interval
+      Eigen::MatrixXd W(d_, d_);
+      for (int a = 0; a < d_; ++a) {
+        for (int c = 0; c < d_; ++c) {
+          W(a, c) = H(modes_[a].axis, modes_[c].axis) / modes_[a].p.m_kg;
+        }
+      }
+      model_.W[static_cast<std::size_t>(i)] = W;
+    }
+    phi_free_ = (A_ * model_.dt_s).exp();
+    // Columns of the monodromy matrix that can be non-zero: z_0, and the initial delayed block
+    // q_{-j} (1 <= j <= m) only if a step reads it, i.e. step m - 1 - j (as q_{i-m+1}) or step
+    // m - j (as q_{i-m}) is engaged; every other block is shifted out unread, its column stays 0.
+    // For X = X[:, C] E_C^T the non-zero eigenvalues are those of the principal submatrix
+    // X[C, C]: at low immersion a far smaller eigenvalue problem (same multipliers).
+    std::vector<bool> used(static_cast<std::size_t>(m_ + 1), false);
+    for (int i = 0; i < model_.intervals; ++i) {
+      if (model_.W[static_cast<std::size_t>(i)].size() == 0) continue;
+      for (const int j : {m_ - 1 - i, m_ - i}) {
+        if (j >= 1 && j <= m_) used[static_cast<std::size_t>(j)] = true;
+      }
+    }
+    cols_.clear();
+    for (int r = 0; r < s_; ++r) cols_.push_back(r);
+    for (int j = 1; j <= m_; ++j) {
+      if (!used[static_cast<std::size_t>(j)]) continue;
+      for (int r = 0; r < d_; ++r) cols_.push_back(s_ + (j - 1) * d_ + r);
+    }
+    const auto c = static_cast<Eigen::Index>(cols_.size());
+    if (Xc_.rows() != c) {
+      Xc_.resize(c, c);
+      es_ = Eigen::EigenSolver<Eigen::MatrixXd>(c);
+    }
+  }
+
+  // Critical (largest-modulus) Floquet multiplier at depth b.
+  std::complex<double> critical_multiplier(double b) {
+    X_.setIdentity();
+    const double dt = model_.dt_s;
+    const int r1 = s_ + (m_ - 2) * d_;  // rows of q_{i-m+1} in Y_i
+    const int r0 = s_ + (m_ - 1) * d_;  // rows of q_{i-m}
+    for (int i = 0; i < model_.intervals; ++i) {
+      const Eigen::MatrixXd& W = model_.W[static_cast<std::size_t>(i)];
+      if (W.size() == 0) {
+        top_.noalias() = phi_free_ * X_.topRows(s_);
+      } else {
+        E_.block(0, 0, s_, s_) = A_ * dt;
+        E_.block(d_, 0, d_, d_) += (b * dt) * W;
+        Ex_ = E_.exp();
+        R1_.noalias() = (-b * dt) * Ex_.block(0, 2 * s_ + d_, s_, d_) * W;
+        R0_.noalias() =
+            (-b * dt) * (Ex_.block(0, s_ + d_, s_, d_) - Ex_.block(0, 2 * s_ + d_, s_, d_)) * W;
+        top_.noalias() = Ex_.block(0, 0, s_, s_) * X_.topRows(s_);
+        top_.noalias() += R1_ * X_.middleRows(r1, d_);
+        top_.noalias() += R0_ * X_.middleRows(r0, d_);
+      }
+      // The delayed part is a shift: q_{i-j} moves down one block, q_i enters.
+      double* data = X_.data();
+      std::memmove(data + static_cast<std::ptrdiff_t>(s_ + d_) * D_,
+                   data + static_cast<std::ptrdiff_t>(s_) * D_,
+                   sizeof(double) * static_cast<std::size_t>((m_ - 1) * d_ * D_));
+      X_.middleRows(s_, d_) = X_.topRows(d_);
+      X_.topRows(s_) = top_;
+    }
+    const auto c = static_cast<Eigen::Index>(cols_.size());
+    for (Eigen::Index a = 0; a < c; ++a) {
+      for (Eigen::Index k = 0; k < c; ++k) Xc_(a, k) = X_(cols_[a], cols_[k]);
+    }
+    es_.compute(Xc_, false);
+    const auto& ev = es_.eigenvalues();
+    Eigen::Index k = 0;
+    ev.cwiseAbs().maxCoeff(&k);
+    return ev(k);
+  }
+
+  // docs/lobes.md: f = |arg(mu) / (2 pi) + k| / T with the integer k that brings f nearest the
+  // natural frequency of the dominant mode.
+  double chatter_hz(std::complex<double> mu) const {
+    const double T = model_.period_s;
+    const double a = std::arg(mu) / kTwoPi;
+    const double k0 = std::round(fdom_hz_ * T - a);
+    double best = std::numeric_limits<double>::infinity(), f_best = 0.0;
+    for (double k = k0 - 1.0; k <= k0 + 1.0; k += 1.0) {
+      const double f = std::abs(a + k) / T;
+      if (std::abs(f - fdom_hz_) < best) {
+        best = std::abs(f - fdom_hz_);
+        f_best = f;
+      }
+    }
+    return f_best;
+  }
+
+  SpeedResult solve(double rpm) {
+    set_speed(rpm);
+    SpeedResult r;
+    r.spindle_rpm = rpm;
+    const double bmax = in_.max_depth_m;
+    double lo = 0.0, hi = -1.0;
+    std::complex<double> mu_hi;
+    for (int j = 1; j <= o_.coarse_depths; ++j) {
+      const double b = bmax * j / o_.coarse_depths;
+      const std::complex<double> mu = critical_multiplier(b);
+      if (std::abs(mu) >= 1.0) {
+        hi = b;
+        mu_hi = mu;
+        break;
+      }
+      lo = b;
+      r.critical_multiplier_abs = std::abs(mu);
+    }
+    if (hi < 0.0) return r;  // stable up to max depth
+    while (hi - lo > o_.depth_rel_tol * hi) {
+      const double mid = 0.5 * (lo + hi);
+      const std::complex<double> mu = critical_multiplier(mid);
+      if (std::abs(mu) >= 1.0) {
+        hi = mid;
+        mu_hi = mu;
+      } else {
+        lo = mid;
+      }
+    }
+    r.limit_depth_m = hi;
+    r.critical_multiplier_abs = std::abs(mu_hi);
+    if (std::abs(mu_hi.imag()) > 1e-9 * std::abs(mu_hi)) {
+      r.type = BoundaryType::kHopf;
+    } else {
+      r.type = mu_hi.real() < 0.0 ? BoundaryType::kFlip : BoundaryType::kFold;
+    }
+    r.chatter_hz = chatter_hz(mu_hi);
+    return r;
+  }
+
+ private:
+  const LobesInput& in_;
+  SemiDiscretizationOptions o_;
+  std::vector<Mode> modes_;
+  int d_ = 0, s_ = 0, m_ = 0, D_ = 0;
+  MatS A_, phi_free_;
+  MatE E_, Ex_;
+  RowMat X_, top_;
+  Eigen::MatrixXd Xc_;     // X[C, C]
+  std::vector<int> cols_;  // C: the columns of X that can be non-zero (set_speed)
+  MatSd R1_, R0_;
+  Eigen::EigenSolver<Eigen::MatrixXd> es_;
+  milling::EngagementWindow window_;
+  bool revolution_ = false;
+  double fdom_hz_ = 0.0;
+  SpeedModel model_;
+};
+
+template <int S>
+void solve_all(const LobesInput& in, const SemiDiscretizationOptions& o,
+               std::vector<SpeedResult>& out) {
+  const std::size_t n = in.spindle_rpm.size();
+  const auto threads = std::min<std::size_t>(static_cast<std::size_t>(o.threads), n);
+  auto work = [&](std::size_t t) {
+    Kernel<S> k(in, o);
+    for (std::size_t i = t; i < n; i += threads) out[i] = k.solve(in.spindle_rpm[i]);
+  };
+  if (threads <= 1) {
+    work(0);
+    return;
+  }
+  std::vector<std::thread> pool;
+  for (std::size_t t = 0; t < threads; ++t) pool.emplace_back(work, t);
+  for (std::thread& th : pool) th.join();
+}
+
+}  // namespace
+
+LobesResult semi_discretization(const LobesInput& in, const SemiDiscretizationOptions& o) {
+  validate(in);
+  validate_options(o);
+  const auto start = std::chrono::steady_clock::now();
+  LobesResult r;
+  r.speeds.resize(in.spindle_rpm.size());
+  const std::size_t d = in.x_modes.size() + in.y_modes.size();
+  if (d == 1) {
+    solve_all<2>(in, o, r.speeds);
+  } else if (d == 2) {
+    solve_all<4>(in, o, r.speeds);
+  } else if (d == 3) {
+    solve_all<6>(in, o, r.speeds);
+  } else if (d == 4) {
+    solve_all<8>(in, o, r.speeds);
+  } else {
+    solve_all<Eigen::Dynamic>(in, o, r.speeds);
+  }
+  r.runtime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.summary.succeed();
+  return r;
+}
+
+double sd_spectral_radius(const LobesInput& in, const SemiDiscretizationOptions& o,
+                          double spindle_rpm, double depth_m) {
+  validate(in);
+  validate_options(o);
+  Kernel<Eigen::Dynamic> k(in, o);
+  k.set_speed(spindle_rpm);
+  return std::abs(k.critical_multiplier(depth_m));
+}
+
+}  // namespace lobes
+}  // namespace chatterlab

@@ -1,0 +1,69 @@
+// Speed of the stability-lobe analysis (`make bench`; not part of the tests). Figures in
+// docs/lobes.md. A 200-speed diagram of the semi-discretization: the single-degree-of-freedom
+// benchmark of Insperger & Stepan 2004 made flexible on x and y (one mode each, so the state
+// has 4 entries and the delay map 4 + 2 m), down-milling a/D = 0.05, 5,000-25,000 rpm, depths
+// up to 10 mm by a 16-point scan and bisection to 0.1 %, m = 30 intervals per tooth period.
+#include <benchmark/benchmark.h>
+
+#include "analysis/common/constants.h"
+#include "analysis/lobes/lobes.h"
+
+namespace {
+
+using namespace chatterlab;
+using namespace chatterlab::lobes;
+
+LobesInput diagram() {
+  LobesInput in;
+  in.teeth = 2;
+  in.radius_m = 10e-3;
+  in.Kt_N_m2 = {6e8, 6e8};
+  in.Kr_N_m2 = {2e8, 2e8};
+  in.operation = milling::Operation::kDownMilling;
+  in.radial_immersion_m = 0.05 * 2.0 * in.radius_m;
+  const double m = 0.03993, wn = kTwoPi * 922.0, zeta = 0.011;
+  in.x_modes = {{m, 2.0 * zeta * m * wn, m * wn * wn}};
+  in.y_modes = in.x_modes;
+  for (int i = 0; i < 200; ++i) in.spindle_rpm.push_back(5000.0 + 20000.0 * i / 199.0);
+  in.max_depth_m = 10e-3;
+  return in;
+}
+
+void BM_LobesSemiDiscretization200Speeds(benchmark::State& state) {
+  const LobesInput in = diagram();
+  SemiDiscretizationOptions o;
+  o.threads = static_cast<int>(state.range(0));
+  for (auto _ : state) {
+    const LobesResult r = semi_discretization(in, o);
+    benchmark::DoNotOptimize(r.speeds.data());
+  }
+  state.SetItemsProcessed(state.iterations() * 200);  // items/s = speeds/s
+}
+BENCHMARK(BM_LobesSemiDiscretization200Speeds)
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// The worst case for the eigenvalue problem: slotting, every delayed block read (64 x 64).
+void BM_LobesSemiDiscretization200SpeedsSlot(benchmark::State& state) {
+  LobesInput in = diagram();
+  in.radial_immersion_m = 2.0 * in.radius_m;
+  for (auto _ : state) {
+    const LobesResult r = semi_discretization(in);
+    benchmark::DoNotOptimize(r.speeds.data());
+  }
+  state.SetItemsProcessed(state.iterations() * 200);
+}
+BENCHMARK(BM_LobesSemiDiscretization200SpeedsSlot)->Unit(benchmark::kMillisecond);
+
+void BM_LobesZeroOrder200Speeds(benchmark::State& state) {
+  const LobesInput in = diagram();
+  for (auto _ : state) {
+    const ZeroOrderResult r = zero_order(in);
+    benchmark::DoNotOptimize(r.lobes.speeds.data());
+  }
+}
+BENCHMARK(BM_LobesZeroOrder200Speeds)->Unit(benchmark::kMillisecond);
+
+}  // namespace
