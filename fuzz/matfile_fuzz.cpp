@@ -1,6 +1,7 @@
 // mat::numeric_variables and read_vector (libmatio underneath) on .mat files, then
 // SignalTable::open on the same bytes as a .mat signal file. InputError is expected. libmatio
 // runs in child processes (app/formats/matfile.cpp); a child's death is an InputError here.
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 
@@ -10,6 +11,12 @@
 #include "fuzz/fuzz_common.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  // A reader process caught in a loop is killed after 5 s, inside libFuzzer's -timeout=10.
+  static const bool limited = [] {
+    chatterlab::app::mat::set_reader_time_limit(std::chrono::seconds(5));
+    return true;
+  }();
+  (void)limited;
   const auto file = chatterlab::fuzz::write_input("signals.mat", data, size);
   try {
     // One read_vector: the first vector whole, or the first matrix's last column. Each call is

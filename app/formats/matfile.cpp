@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <fstream>
 #include <memory>
@@ -387,9 +389,12 @@ void check_header(const std::filesystem::path& file) {
   }
 }
 
+std::atomic<std::chrono::milliseconds::rep> reader_time_limit_ms{120000};
+
 IsolatedOptions isolated(const std::filesystem::path& file) {
   IsolatedOptions o;
   o.what = file.string() + ": reading this .mat file";
+  o.time_limit = std::chrono::milliseconds(reader_time_limit_ms.load());
   return o;
 }
 
@@ -480,6 +485,10 @@ Eigen::VectorXd read_vector(const std::filesystem::path& file, const std::string
   return through_reader(
       file, [&](ByteWriter& w) { put_matrix(w, read_vector_here(file, name, column)); },
       [](ByteReader& r) { return Eigen::VectorXd(get_matrix(r).col(0)); });
+}
+
+void set_reader_time_limit(std::chrono::milliseconds limit) {
+  reader_time_limit_ms = limit.count();
 }
 
 bool v73_supported() {

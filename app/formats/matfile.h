@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <chrono>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -38,6 +39,11 @@ Eigen::MatrixXd read_matrix(const std::filesystem::path& file, const std::string
 // Variables `names` whole, in one opening of the file (one reader process).
 std::vector<Eigen::MatrixXd> read_matrices(const std::filesystem::path& file,
                                            const std::vector<std::string>& names);
+
+// How long a reader process may take before it is killed and the read is an InputError
+// (default 120 s). The fuzz target sets it below libFuzzer's own time limit, so that a library
+// caught in a loop is a contained failure there too.
+void set_reader_time_limit(std::chrono::milliseconds limit);
 
 enum class Version { kV5, kV73 };
 

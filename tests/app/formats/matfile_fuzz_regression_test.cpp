@@ -3,6 +3,7 @@
 // columns or allocating petabytes.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -235,6 +236,22 @@ TEST(MatfileFuzzRegression, NameTagBeyondItsVariableIsRefusedBeforeLibmatio) {
                   ": element 2 (at byte 504): its name declares 1668218885 bytes, more than the "
                   "376 bytes of the variable (a damaged file)");
   }
+}
+
+// set_reader_time_limit: a .mat read is killed after the limit. A FIFO cannot stand in (the
+// header check refuses it first), so the limit is shown to reach the reader process by a
+// limit of zero, which no read meets.
+TEST(MatfileV73, ReaderTimeLimitReachesTheReaderProcess) {
+  const TempDir dir;
+  const auto file = dir.path() / "v5.mat";
+  write_mat(file, {{"v", Eigen::RowVector3d(1, 2, 3)}});
+  set_reader_time_limit(std::chrono::milliseconds(0));
+  const std::string e = error_of(file, 0);
+  set_reader_time_limit(std::chrono::seconds(120));
+  EXPECT_EQ(e, file.string() +
+                   ": reading this .mat file: not finished after 0 s; stopped (a "
+                   "damaged file?)");
+  EXPECT_EQ(numeric_variables(file).size(), 1u);
 }
 
 }  // namespace
