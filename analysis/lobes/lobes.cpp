@@ -1,9 +1,12 @@
 #include "analysis/lobes/lobes.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
+#include "analysis/common/constants.h"
 #include "analysis/common/require.h"
+#include "analysis/milling/engagement.h"
 
 namespace chatterlab {
 namespace lobes {
@@ -69,6 +72,15 @@ void validate(const LobesInput& in) {
   }
   require_rule(std::isfinite(in.max_depth_m) && in.max_depth_m > 0.0, "lobes.max_depth_m",
                in.max_depth_m, "must be finite and > 0");
+}
+
+int automatic_steps_per_tooth(const LobesInput& in) {
+  const milling::EngagementWindow w =
+      milling::engagement_window(in.operation, in.radius_m, in.radial_immersion_m);
+  const double tooth_angle = 2.0 * kPi / in.teeth;
+  const double engaged = std::max(w.exit_rad - w.entry_rad, 1e-9);
+  const double m = std::ceil(kEngagedIntervals * tooth_angle / engaged);
+  return static_cast<int>(std::clamp(m, 30.0, static_cast<double>(kMaxAutoStepsPerTooth)));
 }
 
 }  // namespace lobes

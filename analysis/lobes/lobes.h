@@ -13,6 +13,7 @@
 // tau = 60 / (N n) the tooth period, b the axial depth.
 #pragma once
 
+#include <complex>
 #include <optional>
 #include <vector>
 
@@ -58,14 +59,16 @@ const char* to_string(BoundaryType t);  // "flip", "hopf", "fold"
 
 struct SpeedResult {
   double spindle_rpm = 0.0;
-  std::optional<double> limit_depth_m;   // none: stable up to max_depth_m
-  std::optional<BoundaryType> type;      // with limit_depth_m
-  std::optional<double> chatter_hz;      // with limit_depth_m (docs/lobes.md: the rule)
-  double critical_multiplier_abs = 0.0;  // |mu| at limit_depth_m (> 1), or at max depth
+  std::optional<double> limit_depth_m;       // none: stable up to max_depth_m
+  std::optional<BoundaryType> type;          // with limit_depth_m
+  std::optional<double> chatter_hz;          // with limit_depth_m (docs/lobes.md: the rule)
+  double critical_multiplier_abs = 0.0;      // |mu| at limit_depth_m (> 1), or at max depth
+  std::complex<double> critical_multiplier;  // mu at limit_depth_m (semi-discretization only)
 };
 
 struct LobesResult {
   StepSummary summary;              // not run until the method finished
+  bool revolution_period = false;   // semi-discretization: multipliers over the revolution
   std::vector<SpeedResult> speeds;  // one per LobesInput::spindle_rpm, same order
   double runtime_s = 0.0;           // wall time of the whole method
 };
@@ -75,6 +78,17 @@ void validate(const LobesInput& in);
 
 // Method 1: first-order semi-discretization. Throws InputError for invalid input or options.
 LobesResult semi_discretization(const LobesInput& in, const SemiDiscretizationOptions& o = {});
+
+// The automatic number of semi-discretization intervals per tooth period: at least 30, and
+// enough that the engaged arc holds at least kEngagedIntervals of them (low immersion),
+// at most kMaxAutoStepsPerTooth (docs/lobes.md "Intervals per tooth period").
+constexpr int kEngagedIntervals = 12;
+constexpr int kMaxAutoStepsPerTooth = 240;
+int automatic_steps_per_tooth(const LobesInput& in);
+
+// Whether semi-discretization takes the revolution as the principal period (teeth with unequal
+// Kt or Kr, or o.force_revolution_period), else the tooth period.
+bool uses_revolution_period(const LobesInput& in, const SemiDiscretizationOptions& o);
 
 // Floquet multipliers' largest modulus at one speed and depth (the stability test of
 // semi_discretization; exposed for checks). `revolution_period` as force_revolution_period.

@@ -24,7 +24,6 @@
 #include <chrono>
 #include <cmath>
 #include <complex>
-#include <cstring>
 #include <limits>
 #include <thread>
 #include <unsupported/Eigen/MatrixFunctions>
@@ -101,26 +100,26 @@ class Kernel {
   static constexpr int S3 = S == Eigen::Dynamic ? Eigen::Dynamic : 3 * S;
   using MatE = Eigen::Matrix<double, S3, S3>;
   using MatSd = Eigen::Matrix<double, S, Eigen::Dynamic>;
-  using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
   Kernel(const LobesInput& in, const SemiDiscretizationOptions& o)
       : in_(in), o_(o), modes_(all_modes(in)) {
     d_ = static_cast<int>(modes_.size());
     s_ = 2 * d_;
     m_ = o.steps_per_tooth;
-    D_ = s_ + m_ * d_;
+    // Scaled state z = [q; qdot / omega_n] (per mode): the same multipliers (a similarity), and
+    // entries of A dt of the order of omega_n dt instead of omega_n^2 dt, so that the matrix
+    // exponentials need no scaling and squaring (docs/lobes.md "Speed").
     A_ = MatS::Zero(s_, s_);
     for (int a = 0; a < d_; ++a) {
       const ModalParameters& p = modes_[static_cast<std::size_t>(a)].p;
-      A_(a, d_ + a) = 1.0;
-      A_(d_ + a, a) = -p.k_N_m / p.m_kg;
+      const double wn = std::sqrt(p.k_N_m / p.m_kg);
+      A_(a, d_ + a) = wn;
+      A_(d_ + a, a) = -wn;
       A_(d_ + a, d_ + a) = -p.c_kg_s / p.m_kg;
     }
     E_ = MatE::Zero(3 * s_, 3 * s_);
     E_.block(0, s_, s_, s_).setIdentity();
     E_.block(s_, 2 * s_, s_, s_).setIdentity();
-    X_.resize(D_, D_);
-    top_.resize(s_, D_);
     R1_.resize(s_, d_);
     R0_.resize(s_, d_);
     window_ = milling::engagement_window(in.operation, in.radius_m, in.radial_immersion_m);
@@ -147,7 +146,8 @@ class Kernel {
       Eigen::MatrixXd W(d_, d_);
       for (int a = 0; a < d_; ++a) {
         for (int c = 0; c < d_; ++c) {
-          W(a, c) = H(modes_[a].axis, modes_[c].axis) / modes_[a].p.m_kg;
+          const ModalParameters& pa = modes_[static_cast<std::size_t>(a)].p;
+          W(a, c) = H(modes_[a].axis, modes_[c].axis) / (pa.m_kg * std::sqrt(pa.k_N_m / pa.m_kg));
         }
       }
       model_.W[static_cast<std::size_t>(i)] = W;
@@ -172,22 +172,47 @@ class Kernel {
       for (int r = 0; r < d_; ++r) cols_.push_back(s_ + (j - 1) * d_ + r);
     }
     const auto c = static_cast<Eigen::Index>(cols_.size());
+    // Position in C of each initial delayed block's first column (-1: not in C, never read).
+    block_pos_.assign(static_cast<std::size_t>(m_ + 1), -1);
+    for (Eigen::Index a = s_; a < c; a += d_) {
+      block_pos_[static_cast<std::size_t>((cols_[a] - s_) / d_ + 1)] = static_cast<int>(a);
+    }
     if (Xc_.rows() != c) {
       Xc_.resize(c, c);
       es_ = Eigen::EigenSolver<Eigen::MatrixXd>(c);
     }
+    top_.resize(s_, c);
+    next_.resize(s_, c);
+    hist_.resize(static_cast<Eigen::Index>(model_.intervals + 1) * d_, c);
   }
 
   // Critical (largest-modulus) Floquet multiplier at depth b.
+  //
+  // Only the columns C of the monodromy matrix are propagated (the others end zero, set_speed),
+  // and the delayed part of Y_i is never moved: q_k (k >= 0) is kept as block k of hist_ (the
+  // first d rows of z_k), and q_{-j} is block j of the initial identity. The map of interval i
+  // reads q_{i-m+1} and q_{i-m} from there, so a step costs O(S^2 |C|) instead of the O(D^2) of
+  // shifting the whole delay state (docs/lobes.md "Speed").
   std::complex<double> critical_multiplier(double b) {
-    X_.setIdentity();
     const double dt = model_.dt_s;
-    const int r1 = s_ + (m_ - 2) * d_;  // rows of q_{i-m+1} in Y_i
-    const int r0 = s_ + (m_ - 1) * d_;  // rows of q_{i-m}
+    const Eigen::Index c = Xc_.rows();
+    top_.setZero();
+    for (int r = 0; r < s_; ++r) top_(r, r) = 1.0;  // C begins with the s columns of z_0
+    hist_.topRows(d_) = top_.topRows(d_);
+    // next_ += R q_k for the k of q_{i-m+1} or q_{i-m}.
+    const auto add_delayed = [&](const MatSd& R, int k) {
+      if (k >= 0) {
+        next_.noalias() += R * hist_.middleRows(static_cast<Eigen::Index>(k) * d_, d_);
+        return;
+      }
+      const int pos = block_pos_[static_cast<std::size_t>(-k)];
+      if (pos < 0) return;  // cannot happen: an engaged step's blocks are in C
+      for (int r = 0; r < d_; ++r) next_.col(pos + r) += R.col(r);
+    };
     for (int i = 0; i < model_.intervals; ++i) {
       const Eigen::MatrixXd& W = model_.W[static_cast<std::size_t>(i)];
       if (W.size() == 0) {
-        top_.noalias() = phi_free_ * X_.topRows(s_);
+        next_.noalias() = phi_free_ * top_;
       } else {
         E_.block(0, 0, s_, s_) = A_ * dt;
         E_.block(d_, 0, d_, d_) += (b * dt) * W;
@@ -195,27 +220,42 @@ class Kernel {
         R1_.noalias() = (-b * dt) * Ex_.block(0, 2 * s_ + d_, s_, d_) * W;
         R0_.noalias() =
             (-b * dt) * (Ex_.block(0, s_ + d_, s_, d_) - Ex_.block(0, 2 * s_ + d_, s_, d_)) * W;
-        top_.noalias() = Ex_.block(0, 0, s_, s_) * X_.topRows(s_);
-        top_.noalias() += R1_ * X_.middleRows(r1, d_);
-        top_.noalias() += R0_ * X_.middleRows(r0, d_);
+        next_.noalias() = Ex_.block(0, 0, s_, s_) * top_;
+        add_delayed(R1_, i - m_ + 1);
+        add_delayed(R0_, i - m_);
       }
-      // The delayed part is a shift: q_{i-j} moves down one block, q_i enters.
-      double* data = X_.data();
-      std::memmove(data + static_cast<std::ptrdiff_t>(s_ + d_) * D_,
-                   data + static_cast<std::ptrdiff_t>(s_) * D_,
-                   sizeof(double) * static_cast<std::size_t>((m_ - 1) * d_ * D_));
-      X_.middleRows(s_, d_) = X_.topRows(d_);
-      X_.topRows(s_) = top_;
+      top_.swap(next_);
+      hist_.middleRows(static_cast<Eigen::Index>(i + 1) * d_, d_) = top_.topRows(d_);
     }
-    const auto c = static_cast<Eigen::Index>(cols_.size());
+    // Rows C of Y_K = [z_K; q_{K-1}; ...; q_{K-m}] (K >= m: every q from hist_).
+    const int K = model_.intervals;
     for (Eigen::Index a = 0; a < c; ++a) {
-      for (Eigen::Index k = 0; k < c; ++k) Xc_(a, k) = X_(cols_[a], cols_[k]);
+      const int row = cols_[static_cast<std::size_t>(a)];
+      if (row < s_) {
+        Xc_.row(a) = top_.row(row);
+      } else {
+        const int j = (row - s_) / d_ + 1, r = (row - s_) % d_;
+        Xc_.row(a) = hist_.row(static_cast<Eigen::Index>(K - j) * d_ + r);
+      }
     }
     es_.compute(Xc_, false);
     const auto& ev = es_.eigenvalues();
     Eigen::Index k = 0;
     ev.cwiseAbs().maxCoeff(&k);
     return ev(k);
+  }
+
+  // log |mu| at depth 0: the free motion over the period, T times the largest real part of
+  // the modes' eigenvalues (-zeta wn, or -zeta wn + wn sqrt(zeta^2 - 1) when overdamped).
+  double free_log_multiplier() const {
+    double largest = -std::numeric_limits<double>::infinity();
+    for (const Mode& m : modes_) {
+      const double wn = std::sqrt(m.p.k_N_m / m.p.m_kg);
+      const double zeta = m.p.c_kg_s / (2.0 * m.p.m_kg * wn);
+      largest =
+          std::max(largest, zeta < 1.0 ? -zeta * wn : wn * (std::sqrt(zeta * zeta - 1) - zeta));
+    }
+    return largest * model_.period_s;
   }
 
   // docs/lobes.md: f = |arg(mu) / (2 pi) + k| / T with the integer k that brings f nearest the
@@ -254,18 +294,40 @@ class Kernel {
       r.critical_multiplier_abs = std::abs(mu);
     }
     if (hi < 0.0) return r;  // stable up to max depth
+    // Between the last stable and the first unstable depth: the Illinois variant of regula
+    // falsi on f(b) = log |mu(b)| (f(lo) < 0 <= f(hi)), with a bisection step whenever a step
+    // did not halve the bracket, so never slower than half the speed of bisection. At b = 0
+    // |mu| is the free motion's exp(-min(c / 2m) T), exact in this discretization.
+    double flo = lo > 0.0 ? std::log(r.critical_multiplier_abs) : free_log_multiplier();
+    double fhi = std::log(std::abs(mu_hi));
+    int side = 0;
+    bool bisect = !(flo < 0.0);
     while (hi - lo > o_.depth_rel_tol * hi) {
-      const double mid = 0.5 * (lo + hi);
-      const std::complex<double> mu = critical_multiplier(mid);
-      if (std::abs(mu) >= 1.0) {
-        hi = mid;
-        mu_hi = mu;
-      } else {
-        lo = mid;
+      const double width = hi - lo;
+      double b = 0.5 * (lo + hi);
+      if (!bisect && fhi > flo) {
+        const double eps = 0.25 * o_.depth_rel_tol * hi;  // keep clear of the ends
+        b = std::clamp((lo * fhi - hi * flo) / (fhi - flo), lo + eps, hi - eps);
       }
+      const std::complex<double> mu = critical_multiplier(b);
+      const double f = std::log(std::abs(mu));
+      if (f >= 0.0) {
+        hi = b;
+        fhi = f;
+        mu_hi = mu;
+        if (side == 1) flo *= 0.5;
+        side = 1;
+      } else {
+        lo = b;
+        flo = f;
+        if (side == -1) fhi *= 0.5;
+        side = -1;
+      }
+      bisect = !(hi - lo <= 0.5 * width) || !(flo < 0.0);
     }
     r.limit_depth_m = hi;
     r.critical_multiplier_abs = std::abs(mu_hi);
+    r.critical_multiplier = mu_hi;
     if (std::abs(mu_hi.imag()) > 1e-9 * std::abs(mu_hi)) {
       r.type = BoundaryType::kHopf;
     } else {
@@ -279,10 +341,12 @@ class Kernel {
   const LobesInput& in_;
   SemiDiscretizationOptions o_;
   std::vector<Mode> modes_;
-  int d_ = 0, s_ = 0, m_ = 0, D_ = 0;
+  int d_ = 0, s_ = 0, m_ = 0;
   MatS A_, phi_free_;
   MatE E_, Ex_;
-  RowMat X_, top_;
+  MatSd top_, next_;      // z_i and z_{i+1}, columns C
+  Eigen::MatrixXd hist_;  // block k (d rows): q_k = first d rows of z_k, columns C
+  std::vector<int> block_pos_;
   Eigen::MatrixXd Xc_;     // X[C, C]
   std::vector<int> cols_;  // C: the columns of X that can be non-zero (set_speed)
   MatSd R1_, R0_;
@@ -332,8 +396,13 @@ LobesResult semi_discretization(const LobesInput& in, const SemiDiscretizationOp
     solve_all<Eigen::Dynamic>(in, o, r.speeds);
   }
   r.runtime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.revolution_period = uses_revolution_period(in, o);
   r.summary.succeed();
   return r;
+}
+
+bool uses_revolution_period(const LobesInput& in, const SemiDiscretizationOptions& o) {
+  return o.force_revolution_period || !equal_teeth(in);
 }
 
 double sd_spectral_radius(const LobesInput& in, const SemiDiscretizationOptions& o,

@@ -49,6 +49,18 @@ const std::vector<CommandSpec>& commands() {
         {"--results-only", false, "results.json only: no figures, HTML or PDF"},
         {"--jobs", true, "figure threads (0: one per hardware thread)"},
         {"--quiet", false, "no summary on stdout; errors still on stderr"}}},
+      {"lobes",
+       "chatterlab lobes <spec.yaml> --out <dir> [--no-pdf] [--results-only] [--jobs N] "
+       "[--quiet]",
+       "stability lobes by semi-discretization and the zero-order approximation: limit depth, "
+       "boundary type and chatter frequency per speed, a figure, results.json",
+       {{"--out", true,
+         "the output folder: new, empty, or one chatterlab wrote (its previous files are "
+         "removed)"},
+        {"--no-pdf", false, "write no PDF"},
+        {"--results-only", false, "results.json only: no figure, HTML or PDF"},
+        {"--jobs", true, "threads over the speeds (0: one per hardware thread)"},
+        {"--quiet", false, "no summary on stdout; errors still on stderr"}}},
       {"synth",
        "chatterlab synth <spec.yaml> --out <campaign> [--quiet]",
        "write a synthetic campaign with truth.yaml (spec format: docs/format/synth-spec.md)",

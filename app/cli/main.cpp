@@ -15,6 +15,7 @@
 #include "app/cli/output_folder.h"
 #include "app/cli/validate.h"
 #include "app/core/campaign.h"
+#include "app/lobes/lobes_run.h"
 #include "app/report/report.h"
 #include "app/simulate/simulate.h"
 #include "app/synth/synth.h"
@@ -203,6 +204,33 @@ int main(int argc, char** argv) {
         rc = chatterlab::app::run_simulate(positional[0], folder.work(), so, sim_log);
         // A run that diverged or whose PDF failed still wrote its report (exit 1): it replaces
         // the previous one; a spec error (an exception) leaves --out as it was.
+        folder.commit();
+        buf.release(true);
+      }
+      if (line.quiet && rc != 0) std::cerr << held.str();
+      return rc;
+    }
+    if (cmd == "lobes") {
+      if (positional.size() != 1 || out.empty()) {
+        return usage_error("lobes takes one spec file and --out <dir>", cmd);
+      }
+      chatterlab::app::LobesRunOptions lo;
+      lo.pdf = report_options.pdf;
+      lo.report = !results_only;
+      lo.jobs = report_options.jobs;
+      lo.warnings = &std::cerr;
+      // As simulate: refused before any work when --out is not ours; a spec error leaves --out
+      // as it was.
+      chatterlab::app::OutputFolder folder(out);
+      work_shown = folder.work().string();
+      out_shown = folder.dir().string();
+      std::ostringstream held;
+      int rc = 0;
+      {
+        RewritingBuf buf(line.quiet ? static_cast<std::ostream&>(held) : std::cout, work_shown,
+                         out_shown);
+        std::ostream lobes_log(&buf);
+        rc = chatterlab::app::run_lobes(positional[0], folder.work(), lo, lobes_log);
         folder.commit();
         buf.release(true);
       }

@@ -2,6 +2,7 @@
 #include "app/kinds/cut/cut_kind.h"
 #include "app/kinds/dyno_slot/dyno_slot_kind.h"
 #include "app/kinds/grinding/grinding_kind.h"
+#include "app/kinds/lobes/lobes_group.h"
 #include "app/kinds/sifs/sifs_kinds.h"
 #include "app/kinds/tap/tap_kind.h"
 #include "app/pipeline/registry.h"
@@ -13,6 +14,7 @@ void register_builtin_kinds(KindRegistry& r) {
   r.add(std::make_unique<DynoSlotKind>());
   r.add(std::make_unique<DynoSlotGroup>());
   r.add(std::make_unique<CutKind>());
+  r.add(std::make_unique<LobesGroup>());
   r.add(std::make_unique<GrindingKind>());
   r.add(std::make_unique<SifsStaticKind>());
   r.add(std::make_unique<SifsStaticGroup>());

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "analysis/common/summary.h"
+#include "app/core/spec_fields.h"
 #include "app/core/yaml_load.h"
 #include "app/core/yaml_reader.h"
 
@@ -20,60 +21,6 @@ constexpr long kMaxRevolutions = 1000000;
 constexpr long kMaxStepsPerTooth = 100000;
 constexpr double kMaxSteps = 1e9;  // revolutions x teeth x steps_per_tooth
 constexpr std::size_t kMaxPoincareDepths = 100;
-
-ModalParameters read_modal(const YAML::Node& n, YamlReader& r, const std::string& path) {
-  r.check_keys(n, {"m_kg", "c_kg_s", "k_N_m"}, path);
-  ModalParameters m;
-  m.m_kg = r.required_double(n, "m_kg", path);
-  m.c_kg_s = r.required_double(n, "c_kg_s", path);
-  m.k_N_m = r.required_double(n, "k_N_m", path);
-  if (!(m.m_kg > 0)) r.error(path + ".m_kg", "must be > 0");
-  if (!(m.c_kg_s >= 0)) r.error(path + ".c_kg_s", "must be >= 0");
-  if (!(m.k_N_m > 0)) r.error(path + ".k_N_m", "must be > 0");
-  return m;
-}
-
-// A number (every tooth) or a list of one value per tooth.
-std::vector<double> per_tooth(const YAML::Node& map, const std::string& key, int teeth,
-                              YamlReader& r) {
-  const std::string path = "coefficients." + key;
-  const YAML::Node n = map[key];
-  std::vector<double> v;
-  if (!n) {
-    r.error(path, "is missing");
-    return v;
-  }
-  try {
-    if (n.IsScalar()) {
-      v.assign(static_cast<std::size_t>(std::max(teeth, 1)), n.as<double>());
-      if (!std::isfinite(v.front()))
-        r.error(path, "must be a finite number, got '" + n.Scalar() + "'");
-    } else if (n.IsSequence()) {
-      if (n.size() > static_cast<std::size_t>(kMaxTeeth)) {
-        r.error(path, "has " + std::to_string(n.size()) + " values: at most " +
-                          std::to_string(kMaxTeeth) + " (one per tooth)");
-        return {};
-      }
-      for (const auto& e : n) {
-        v.push_back(e.as<double>());
-        if (!std::isfinite(v.back())) r.error(path, "values must be finite numbers");
-      }
-      if (teeth > 0 && static_cast<int>(v.size()) != teeth) {
-        r.error(path, "has " + std::to_string(v.size()) +
-                          " values: give one number or one per tooth (" + std::to_string(teeth) +
-                          ")");
-      }
-    } else {
-      r.error(path, "must be a number or a list of numbers, one per tooth");
-    }
-  } catch (const YAML::Exception&) {
-    r.error(path, "must be a number or a list of numbers, one per tooth");
-  }
-  for (double x : v) {
-    if (!(x >= 0)) r.error(path, "values must be >= 0");
-  }
-  return v;
-}
 
 }  // namespace
 
@@ -106,18 +53,18 @@ SimulationSpec load_simulation_spec(const std::filesystem::path& file) {
     r.error("modal", "must be {m_kg, c_kg_s, k_N_m} or {x: {...}, y: {...}}");
   } else if (modal["x"] || modal["y"]) {
     r.check_keys(modal, {"x", "y"}, "modal");
-    s.x = read_modal(modal["x"], r, "modal.x");
-    s.y = read_modal(modal["y"], r, "modal.y");
+    s.x = read_modal_parameters(modal["x"], r, "modal.x");
+    s.y = read_modal_parameters(modal["y"], r, "modal.y");
   } else {
-    s.x = s.y = read_modal(modal, r, "modal");
+    s.x = s.y = read_modal_parameters(modal, r, "modal");
   }
   const YAML::Node k = root["coefficients"];
   if (!k || !k.IsMap()) {
     r.error("coefficients", "must be {Kt_N_m2: ..., Kr_N_m2: ...}");
   } else {
     r.check_keys(k, {"Kt_N_m2", "Kr_N_m2"}, "coefficients");
-    s.Kt_N_m2 = per_tooth(k, "Kt_N_m2", s.teeth, r);
-    s.Kr_N_m2 = per_tooth(k, "Kr_N_m2", s.teeth, r);
+    s.Kt_N_m2 = read_per_tooth(k, "Kt_N_m2", s.teeth, kMaxTeeth, r);
+    s.Kr_N_m2 = read_per_tooth(k, "Kr_N_m2", s.teeth, kMaxTeeth, r);
   }
   const YAML::Node cut = root["cut"];
   if (!cut || !cut.IsMap()) {

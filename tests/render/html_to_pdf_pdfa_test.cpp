@@ -275,6 +275,14 @@ TEST_F(HtmlToPdfPdfaTest, TemplateHeadsCarryTheMetadata) {
         {"generated_iso", "2026-12-02T01:29:00Z"}},
        "incline: chatterlab simulation",
        "Bifurcation depth 2.31 mm"},
+      {"lobes.html",
+       {{"name", "slot"},
+        {"summary_line", "Semi-discretization minimum 0.31 mm at 9000 rpm"},
+        {"version", "9.8.7"},
+        {"generated_utc", "2026-12-02 01:29 UTC"},
+        {"generated_iso", "2026-12-02T01:29:00Z"}},
+       "slot: chatterlab stability lobes",
+       "Semi-discretization minimum 0.31 mm at 9000 rpm"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.file);

@@ -261,6 +261,9 @@ void CutKind::figures(const CampaignResults& r, const TestOutcome& t, FigureJobs
     if (!c.poincare.empty())
       jobs.add(id, "poincare", stem + "poincare", poincare_figure(c.poincare));
   }
+  if (!c.ramped && c.orbit_status.ok() && !c.poincare.empty()) {
+    jobs.add(id, "poincare", stem + "poincare", poincare_figure(c.poincare));
+  }
   const CutEstimation& e = c.estimation;
   if (!e.summary.ok()) return;
   const auto reference = reference_values(r, t);

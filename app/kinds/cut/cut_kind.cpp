@@ -157,6 +157,43 @@ std::vector<Need> CutKind::needs(const TestSpec&) const {
           {value::kCuttingCoefficients, false}};
 }
 
+std::string CutKind::describe_value(const std::string& name) const {
+  return name == value::kCutSummary ? "the cut tests' conditions and identified values" : "";
+}
+
+void CutKind::publish(const TestOutcome& t, CampaignValues& values) const {
+  const CutOutcome& c = t.result_of<CutOutcome>();
+  const CutSpec& spec = t.spec->kind_spec<CutSpec>();
+  CutSummary s;
+  s.id = t.spec->id;
+  s.operation = spec.operation == "down-milling" ? milling::Operation::kDownMilling
+                                                 : milling::Operation::kUpMilling;
+  s.spindle_rpm = spec.spindle_rpm;
+  s.radial_immersion_m = spec.radial_immersion_m;
+  s.depth_start_m = spec.axial_depth_m.first;
+  s.depth_end_m = spec.axial_depth_m.second;
+  s.ramped = c.ramped;
+  if (!c.ramped && c.orbit_status.ok()) {
+    s.chatter = c.orbit.shape != dynamics::OrbitShape::kFixedPoint;
+  }
+  if (c.ramped && c.bifurcation_status.ok()) {
+    s.bifurcation_ok = true;
+    s.profile = c.bifurcation.profile;
+    s.verdict = c.bifurcation.verdict;
+    s.bifurcation_depth_m = c.bifurcation.bifurcation_depth_m;
+  }
+  if (c.estimation.summary.ok()) {
+    s.identified = true;
+    s.modal = c.estimation.modal;
+    for (const auto& k : c.estimation.coefficients) {
+      s.Kt_N_m2.push_back(k.Kt_N_m2);
+      s.Kr_N_m2.push_back(k.Kr_N_m2);
+    }
+  }
+  const std::string id = s.id;  // not s.id: s is moved into the call
+  values.put(value::kCutSummary, id, std::move(s));
+}
+
 const EstimationOptions& estimation_options(const CampaignSpec& c) {
   static const EstimationOptions kDefaults;
   const auto* b = c.block<EstimationBlock>("estimation");

@@ -8,6 +8,7 @@
 
 #include "app/kinds/cut/cut_spec.h"
 #include "app/kinds/cut/cut_step.h"
+#include "app/kinds/cut/cut_summary.h"
 #include "app/kinds/dyno_slot/dyno_slot_kind.h"
 #include "app/kinds/tap/tap_kind.h"
 #include "app/pipeline/kind.h"
@@ -31,8 +32,11 @@ class CutKind : public TestKind {
   }
   std::vector<std::string> check_record(const TestSpec& t, double duration_s) const override;
   std::vector<Need> needs(const TestSpec&) const override;
+  std::vector<std::string> provides(const TestSpec&) const override { return {value::kCutSummary}; }
+  std::string describe_value(const std::string& name) const override;
   void run(const TestSpec& t, const CampaignValues& in, const RunContext& ctx,
            TestOutcome& out) const override;
+  void publish(const TestOutcome& t, CampaignValues& values) const override;
   nlohmann::json results(const TestOutcome& t) const override;
   // <test>/identified.csv: the test's identified values (cut_results.cpp).
   void write_files(const TestOutcome& t, const std::filesystem::path& report_dir) const override;

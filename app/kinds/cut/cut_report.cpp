@@ -174,6 +174,15 @@ json cut_context(const CampaignResults& r, const TestOutcome& t, const FigureSet
     const std::string p = fig("poincare");
     if (!p.empty()) j["fig_poincare"] = p;
   }
+  j["orbit_ok"] = !c.ramped && c.orbit_status.ok();
+  j["orbit_message"] = c.orbit_status.message;
+  if (!c.ramped && c.orbit_status.ok()) {
+    j["orbit"] = dynamics::to_string(c.orbit.shape);
+    j["orbit_state"] = c.orbit.shape == dynamics::OrbitShape::kFixedPoint ? "stable" : "chatter";
+    j["orbit_noise_floor_um"] = fmt_sig(c.orbit_noise_floor_m * 1e6, 3);
+    const std::string p = fig("poincare");
+    if (!p.empty()) j["fig_orbit"] = p;
+  }
   // Identification and estimators (000 sec. 5.1, ch. 4 and 6): only from a sequence that
   // finished; otherwise its message and no number from it.
   const CutEstimation& e = c.estimation;

@@ -173,6 +173,17 @@ json cut_json(const CutOutcome& c) {
               ? c.bifurcation_status.message
               : std::string("the bifurcation detector did not run");
     }
+  } else if (c.orbit_status.ok()) {
+    // Constant depth: stable or chatter by the Poincare class (docs/lobes.md).
+    j["orbit"] = dynamics::to_string(c.orbit.shape);
+    j["orbit_period"] = c.orbit.period;
+    j["chatter"] = c.orbit.shape != dynamics::OrbitShape::kFixedPoint;
+    j["orbit_noise_floor_m"] = c.orbit_noise_floor_m;
+  } else {
+    j["orbit_status"] = "skipped";
+    j["orbit_skip_reason"] = c.orbit_status.ran() && !c.orbit_status.message.empty()
+                                 ? c.orbit_status.message
+                                 : std::string("the orbit was not classified");
   }
   json estimators = json::object();
   if (identified) {

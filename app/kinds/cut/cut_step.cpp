@@ -58,7 +58,10 @@ void run_offset(const TestSpec& t, const CutStepInputs& in, const sync::TipDefle
   }
 }
 
-void run_measured_bifurcation(const TestSpec& t, const sync::TipDeflection& tip, CutOutcome& out) {
+// The once-per-revolution samples of the cut window (depth_n_m, x_n_m) and the measurement
+// noise of the processed deflection (docs/bifurcation.md); the detector's options.
+dynamics::BifurcationOptions sample_revolutions(const TestSpec& t, const sync::TipDeflection& tip,
+                                                CutOutcome& out) {
   const double offset = out.offset_status.ok() ? out.offset.search.offset_angle_deg : 0.0;
   const Eigen::VectorXd theta = sync::theta1_unwrapped_rad(out.tach, offset);
   const dynamics::RevolutionCrossings c = dynamics::revolution_crossings(theta, 0.0);
@@ -84,6 +87,11 @@ void run_measured_bifurcation(const TestSpec& t, const sync::TipDeflection& tip,
   dynamics::BifurcationOptions bo;
   bo.measurement_noise_m = dynamics::white_noise_sigma(tip.x_m.segment(i0, i1 - i0));
   out.detector_noise_m = bo.measurement_noise_m;
+  return bo;
+}
+
+void run_measured_bifurcation(const TestSpec& t, const sync::TipDeflection& tip, CutOutcome& out) {
+  const dynamics::BifurcationOptions bo = sample_revolutions(t, tip, out);
   if (out.x_n_m.size() <= bo.window_revolutions) {
     out.bifurcation_status.fail("the cut window holds " + std::to_string(out.x_n_m.size()) +
                                 " revolutions: too few for the bifurcation detector (more than " +
@@ -98,6 +106,32 @@ void run_measured_bifurcation(const TestSpec& t, const sync::TipDeflection& tip,
     for (double d : {0.25, 0.75}) at.push_back(lo + d * (hi - lo));
     out.poincare = dynamics::poincare_maps(out.depth_n_m, out.x_n_m, at);
   }
+}
+
+// A constant-depth cut: its Poincare class at the middle of the cut window, against the noise
+// floor the bifurcation detector finds over the whole window.
+void run_constant_depth_orbit(const TestSpec& t, const sync::TipDeflection& tip, CutOutcome& out) {
+  const dynamics::BifurcationOptions bo = sample_revolutions(t, tip, out);
+  const dynamics::PoincareMapOptions po;
+  if (out.x_n_m.size() <= std::max<Eigen::Index>(bo.window_revolutions, po.revolutions + 1)) {
+    out.orbit_status.fail(
+        "the cut window holds " + std::to_string(out.x_n_m.size()) +
+        " revolutions: too few for a Poincare map and its noise floor (more "
+        "than " +
+        std::to_string(std::max<Eigen::Index>(bo.window_revolutions, po.revolutions + 1)) + ")");
+    return;
+  }
+  const dynamics::BifurcationResult b = dynamics::detect_bifurcation(out.depth_n_m, out.x_n_m, bo);
+  if (!b.summary.ok()) {
+    out.orbit_status.fail("no noise floor: " + b.summary.message);
+    return;
+  }
+  out.orbit_noise_floor_m = b.noise_floor_m;
+  const dynamics::PoincareMap map =
+      dynamics::poincare_map_at_revolution(out.depth_n_m, out.x_n_m, out.x_n_m.size() / 2, po);
+  out.orbit = dynamics::classify_orbit(map, b.noise_floor_m);
+  out.poincare = {map};
+  out.orbit_status.succeed();
 }
 
 }  // namespace
@@ -192,7 +226,11 @@ CutOutcome run_cut_test(const TestSpec& t, const CutStepInputs& in, const CutSte
   run_offset(t, in, tip, out);
   out.ramped =
       t.kind_spec<CutSpec>().axial_depth_m.first != t.kind_spec<CutSpec>().axial_depth_m.second;
-  if (out.ramped) run_measured_bifurcation(t, tip, out);
+  if (out.ramped) {
+    run_measured_bifurcation(t, tip, out);
+  } else {
+    run_constant_depth_orbit(t, tip, out);
+  }
   if (!options.estimation_errors.empty()) {
     std::string why;
     for (const auto& e : options.estimation_errors) why += (why.empty() ? "" : "; ") + e;

@@ -52,7 +52,13 @@ struct CutOutcome : KindResult {
 
   StepSummary bifurcation_status;  // ramped cuts only
   bool ramped = false;
-  Eigen::VectorXd depth_n_m, x_n_m;  // once-per-revolution samples at theta_1 = 0
+  // Constant-depth cuts: stable or chatter by the Poincare class of the map centred on the
+  // middle revolution of the cut window (a fixed point: stable), judged against the noise floor
+  // of the bifurcation criterion (docs/lobes.md "Measured points").
+  StepSummary orbit_status;
+  dynamics::OrbitClass orbit;
+  double orbit_noise_floor_m = 0.0;
+  Eigen::VectorXd depth_n_m, x_n_m;  // once-per-revolution samples at theta_1 = 0 in the cut
   dynamics::BifurcationResult bifurcation;
   std::vector<dynamics::PoincareMap> poincare;
   double detector_noise_m = 0.0;  // measurement noise the detector used

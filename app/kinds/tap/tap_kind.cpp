@@ -144,6 +144,10 @@ std::string hammer_value(const TestSpec& t) {
   return t.kind_spec<TapSpec>().axis == "y" ? value::kHammerModeY : value::kHammerModeX;
 }
 
+std::string hammer_modes_value(const TestSpec& t) {
+  return t.kind_spec<TapSpec>().axis == "y" ? value::kHammerModesY : value::kHammerModesX;
+}
+
 }  // namespace
 
 std::vector<std::string> TapKind::keys() const {
@@ -302,11 +306,15 @@ std::shared_ptr<const KindSpec> TapKind::parse(const YAML::Node& root, YamlReade
   return spec;
 }
 
-std::vector<std::string> TapKind::provides(const TestSpec& t) const { return {hammer_value(t)}; }
+std::vector<std::string> TapKind::provides(const TestSpec& t) const {
+  return {hammer_value(t), hammer_modes_value(t)};
+}
 
 std::string TapKind::describe_value(const std::string& name) const {
   if (name == value::kHammerModeX) return "the hammer-test mode of x";
   if (name == value::kHammerModeY) return "the hammer-test mode of y";
+  if (name == value::kHammerModesX) return "the hammer-test modes of x";
+  if (name == value::kHammerModesY) return "the hammer-test modes of y";
   return "";
 }
 
@@ -324,6 +332,11 @@ void TapKind::publish(const TestOutcome& out, CampaignValues& values) const {
     values.put(hammer_value(*out.spec), id, *m);
   } else {
     values.fail(hammer_value(*out.spec), id, "its modal fit failed: " + tap.fit_message);
+  }
+  if (tap.fit_ok && !tap.modes.empty()) {
+    values.put(hammer_modes_value(*out.spec), id, tap.modes);
+  } else {
+    values.fail(hammer_modes_value(*out.spec), id, "its modal fit failed: " + tap.fit_message);
   }
 }
 

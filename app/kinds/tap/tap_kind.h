@@ -12,6 +12,10 @@ namespace value {
 // frf::Mode: the mode of largest peak receptance of the first tap test (by id) of each axis.
 inline const std::string kHammerModeX = "hammer-mode/x";
 inline const std::string kHammerModeY = "hammer-mode/y";
+// std::vector<frf::Mode>: every fitted mode of the first tap test of each axis (the stability
+// lobes take several modes per axis).
+inline const std::string kHammerModesX = "hammer-modes/x";
+inline const std::string kHammerModesY = "hammer-modes/y";
 }  // namespace value
 
 class TapKind : public TestKind {

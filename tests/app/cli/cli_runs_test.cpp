@@ -84,15 +84,17 @@ TEST_F(CliRuns, QuietPrintsNothingAndProgressPrintsALinePerTestOrGroup) {
   EXPECT_EQ(r.status, kExitOk) << r.err;
   EXPECT_EQ(r.err, "");
   EXPECT_EQ(r.out.rfind("report: 5 tests found in synth-test\n", 0), 0u) << r.out;
-  // 5 tests and the dyno-slot group, counted as they finish: [1/6] .. [6/6].
+  // 5 tests, the dyno-slot group and the lobes group (tap and dyno tests: docs/lobes.md),
+  // counted as they finish: [1/7] .. [7/7].
   const auto progress = lines_starting(r.out, "[");
-  ASSERT_EQ(progress.size(), 6u) << r.out;
+  ASSERT_EQ(progress.size(), 7u) << r.out;
   for (std::size_t k = 0; k < progress.size(); ++k) {
-    EXPECT_EQ(progress[k].rfind("[" + std::to_string(k + 1) + "/6] ", 0), 0u) << progress[k];
+    EXPECT_EQ(progress[k].rfind("[" + std::to_string(k + 1) + "/7] ", 0), 0u) << progress[k];
     EXPECT_NE(progress[k].find(" ok "), std::string::npos) << progress[k];
     EXPECT_NE(progress[k].find(" s elapsed"), std::string::npos) << progress[k];
   }
-  EXPECT_EQ(progress.back().rfind("[6/6] group dyno-slot ok ", 0), 0u) << progress.back();
+  EXPECT_EQ(progress[5].rfind("[6/7] group dyno-slot ok ", 0), 0u) << progress[5];
+  EXPECT_EQ(progress.back().rfind("[7/7] group lobes ok ", 0), 0u) << progress.back();
   EXPECT_NE(r.out.find("report: 5 tests, 5 analysed, 0 skipped"), std::string::npos) << r.out;
 }
 
@@ -245,6 +247,47 @@ TEST(CliOutputFolder, SimulateWarnsOnStderrEvenWhenQuiet) {
     EXPECT_EQ(r.out.find("warning"), std::string::npos) << r.out;
     EXPECT_TRUE(fs::exists(d.path() / "sim/results.json"));
   }
+}
+
+// `chatterlab lobes` through the binary: quiet prints nothing and writes results.json; a
+// misspelt key is a warning on stderr; a spec error exits 1 naming file and key and leaves --out
+// as it was; a folder that is not chatterlab's is refused.
+TEST(CliOutputFolder, LobesQuietWarningsAndErrors) {
+  TempDir d;
+  const std::string spec =
+      "format: chatterlab-lobes/1\n"
+      "tool: {teeth: 2, radius_mm: 6.35}\n"
+      "modal: {m_kg: 0.03134, c_kg_s: 22.21, k_N_m: 9.84e5}\n"
+      "coefficients: {Kt_N_m2: 6.0e8, Kr_N_m2: 2.0e8}\n"
+      "cut: {operation: up-milling, radial_immersion_mm: 6.35}\n"
+      "spindle_rpm: [10000, 20000]\n"
+      "speeds: 11\n";
+  d.write("spec.yaml", spec + "max_depht_mm: 5\n");
+  const BinaryRun r = run("lobes " + quoted(d.path() / "spec.yaml") + " --out " +
+                              quoted(d.path() / "lobes") + " --no-pdf --quiet --jobs 1",
+                          d);
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.out, "");
+  EXPECT_NE(r.err.find("chatterlab lobes: warning: spec.yaml: key 'max_depht_mm' is not part of "
+                       "the format and is ignored (did you mean 'max_depth_mm'?)"),
+            std::string::npos)
+      << r.err;
+  EXPECT_TRUE(fs::exists(d.path() / "lobes/results.json"));
+  EXPECT_TRUE(fs::exists(d.path() / "lobes/figures/lobes.svg"));
+  d.write("bad.yaml", spec + "max_depth_mm: 0\n");
+  const BinaryRun b =
+      run("lobes " + quoted(d.path() / "bad.yaml") + " --out " + quoted(d.path() / "lobes"), d);
+  EXPECT_EQ(b.status, kExitInputError);
+  EXPECT_NE(b.err.find("chatterlab lobes: bad.yaml: key 'max_depth_mm' must be > 0"),
+            std::string::npos)
+      << b.err;
+  EXPECT_TRUE(fs::exists(d.path() / "lobes/figures/lobes.svg"));  // the previous output stays
+  d.write("thesis/chapter1.tex", "keep me\n");
+  const BinaryRun t =
+      run("lobes " + quoted(d.path() / "spec.yaml") + " --out " + quoted(d.path() / "thesis"), d);
+  EXPECT_EQ(t.status, kExitInputError);
+  EXPECT_NE(t.err.find("chatterlab lobes: --out "), std::string::npos) << t.err;
+  EXPECT_TRUE(fs::exists(d.path() / "thesis/chapter1.tex"));
 }
 
 // A second run of a smaller campaign into the first run's folder holds exactly the files of a

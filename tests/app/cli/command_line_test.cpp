@@ -35,12 +35,15 @@ TEST(CommandLine, OptionsOfOtherCommandsAndUnknownOptionsAreErrors) {
             "--jobs takes a whole number >= 0, got 'two'");
   EXPECT_EQ(parse({"report", "camp", "--jobs", "-1"}).error,
             "--jobs takes a whole number >= 0, got '-1'");
-  EXPECT_EQ(parse({"lobes", "spec.yaml"}).error, "unknown command 'lobes'");
+  EXPECT_EQ(parse({"nightly", "archive"}).error, "unknown command 'nightly'");
+  EXPECT_EQ(parse({"lobes", "spec.yaml", "--out", "o", "--results-only", "--jobs", "2"}).error, "");
+  EXPECT_EQ(parse({"lobes", "spec.yaml", "--out", "o", "--single-file"}).error,
+            "option '--single-file' does not apply to lobes");
   EXPECT_EQ(parse({}).error, "no command");
 }
 
 TEST(CommandLine, QuietForTheCommandsThatPrintProgress) {
-  for (const char* c : {"report", "simulate", "synth"}) {
+  for (const char* c : {"report", "simulate", "lobes", "synth"}) {
     const auto r = parse({c, "x", "--out", "o", "--quiet"});
     EXPECT_EQ(r.error, "") << c;
     EXPECT_TRUE(r.line.quiet) << c;
@@ -52,7 +55,7 @@ TEST(CommandLine, QuietForTheCommandsThatPrintProgress) {
 }
 
 TEST(CommandLine, UsageNamesTheExitStatuses) {
-  for (const char* c : {"", "report", "validate", "simulate", "synth"}) {
+  for (const char* c : {"", "report", "validate", "simulate", "lobes", "synth"}) {
     const std::string u = command_usage(c);
     EXPECT_NE(u.find("exit status:\n  0  done\n  1  bad input"), std::string::npos) << c;
     EXPECT_NE(u.find("  3  internal error"), std::string::npos) << c;
