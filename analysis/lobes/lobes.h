@@ -13,6 +13,7 @@
 // tau = 60 / (N n) the tooth period, b the axial depth.
 #pragma once
 
+#include <Eigen/Core>
 #include <complex>
 #include <optional>
 #include <vector>
@@ -89,6 +90,12 @@ int automatic_steps_per_tooth(const LobesInput& in);
 // Whether semi-discretization takes the revolution as the principal period (teeth with unequal
 // Kt or Kr, or o.force_revolution_period), else the tooth period.
 bool uses_revolution_period(const LobesInput& in, const SemiDiscretizationOptions& o);
+
+// The stability chart as a grid: |mu| (the largest Floquet multiplier's modulus) at every
+// speed of in.spindle_rpm (rows) and every depth of depths_m (columns, each >= 0), speeds split
+// over o.threads threads. < 1: stable. Throws InputError for invalid input.
+Eigen::MatrixXd sd_spectral_radius_grid(const LobesInput& in, const SemiDiscretizationOptions& o,
+                                        const std::vector<double>& depths_m);
 
 // Floquet multipliers' largest modulus at one speed and depth (the stability test of
 // semi_discretization; exposed for checks). `revolution_period` as force_revolution_period.

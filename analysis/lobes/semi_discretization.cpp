@@ -26,6 +26,7 @@
 #include <complex>
 #include <limits>
 #include <thread>
+#include <utility>
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "analysis/common/constants.h"
@@ -357,14 +358,14 @@ class Kernel {
   SpeedModel model_;
 };
 
-template <int S>
-void solve_all(const LobesInput& in, const SemiDiscretizationOptions& o,
-               std::vector<SpeedResult>& out) {
+// Runs fn(kernel, i) for every speed i, speeds split over o.threads threads, one kernel each.
+template <int S, class Fn>
+void for_speeds(const LobesInput& in, const SemiDiscretizationOptions& o, Fn&& fn) {
   const std::size_t n = in.spindle_rpm.size();
   const auto threads = std::min<std::size_t>(static_cast<std::size_t>(o.threads), n);
   auto work = [&](std::size_t t) {
     Kernel<S> k(in, o);
-    for (std::size_t i = t; i < n; i += threads) out[i] = k.solve(in.spindle_rpm[i]);
+    for (std::size_t i = t; i < n; i += threads) fn(k, i);
   };
   if (threads <= 1) {
     work(0);
@@ -375,6 +376,61 @@ void solve_all(const LobesInput& in, const SemiDiscretizationOptions& o,
   for (std::thread& th : pool) th.join();
 }
 
+template <int S>
+void solve_all(const LobesInput& in, const SemiDiscretizationOptions& o,
+               std::vector<SpeedResult>& out) {
+  for_speeds<S>(in, o, [&](Kernel<S>& k, std::size_t i) { out[i] = k.solve(in.spindle_rpm[i]); });
+}
+
+template <int S>
+void grid_all(const LobesInput& in, const SemiDiscretizationOptions& o,
+              const std::vector<double>& depths_m, Eigen::MatrixXd& out) {
+  for_speeds<S>(in, o, [&](Kernel<S>& k, std::size_t i) {
+    k.set_speed(in.spindle_rpm[i]);
+    for (std::size_t j = 0; j < depths_m.size(); ++j) {
+      out(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) =
+          std::abs(k.critical_multiplier(depths_m[j]));
+    }
+  });
+}
+
+// Dispatch on the number of modes: fixed sizes up to 4 modes in all.
+template <template <int> class Job, class... Args>
+void by_size(std::size_t modes, Args&&... args) {
+  switch (modes) {
+    case 1:
+      Job<2>::run(std::forward<Args>(args)...);
+      return;
+    case 2:
+      Job<4>::run(std::forward<Args>(args)...);
+      return;
+    case 3:
+      Job<6>::run(std::forward<Args>(args)...);
+      return;
+    case 4:
+      Job<8>::run(std::forward<Args>(args)...);
+      return;
+    default:
+      Job<Eigen::Dynamic>::run(std::forward<Args>(args)...);
+  }
+}
+
+template <int S>
+struct SolveJob {
+  static void run(const LobesInput& in, const SemiDiscretizationOptions& o,
+                  std::vector<SpeedResult>& out) {
+    solve_all<S>(in, o, out);
+  }
+};
+
+template <int S>
+struct GridJob {
+  static void run(const LobesInput& in, const SemiDiscretizationOptions& o,
+                  const std::vector<double>& depths_m, Eigen::MatrixXd& out) {
+    grid_all<S>(in, o, depths_m, out);
+  }
+};
+
 }  // namespace
 
 LobesResult semi_discretization(const LobesInput& in, const SemiDiscretizationOptions& o) {
@@ -383,18 +439,7 @@ LobesResult semi_discretization(const LobesInput& in, const SemiDiscretizationOp
   const auto start = std::chrono::steady_clock::now();
   LobesResult r;
   r.speeds.resize(in.spindle_rpm.size());
-  const std::size_t d = in.x_modes.size() + in.y_modes.size();
-  if (d == 1) {
-    solve_all<2>(in, o, r.speeds);
-  } else if (d == 2) {
-    solve_all<4>(in, o, r.speeds);
-  } else if (d == 3) {
-    solve_all<6>(in, o, r.speeds);
-  } else if (d == 4) {
-    solve_all<8>(in, o, r.speeds);
-  } else {
-    solve_all<Eigen::Dynamic>(in, o, r.speeds);
-  }
+  by_size<SolveJob>(in.x_modes.size() + in.y_modes.size(), in, o, r.speeds);
   r.runtime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   r.revolution_period = uses_revolution_period(in, o);
   r.summary.succeed();
@@ -403,6 +448,20 @@ LobesResult semi_discretization(const LobesInput& in, const SemiDiscretizationOp
 
 bool uses_revolution_period(const LobesInput& in, const SemiDiscretizationOptions& o) {
   return o.force_revolution_period || !equal_teeth(in);
+}
+
+Eigen::MatrixXd sd_spectral_radius_grid(const LobesInput& in, const SemiDiscretizationOptions& o,
+                                        const std::vector<double>& depths_m) {
+  validate(in);
+  validate_options(o);
+  for (std::size_t j = 0; j < depths_m.size(); ++j) {
+    require_rule(std::isfinite(depths_m[j]) && depths_m[j] >= 0.0,
+                 "depths_m[" + std::to_string(j) + "]", depths_m[j], "must be finite and >= 0");
+  }
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(in.spindle_rpm.size()),
+                      static_cast<Eigen::Index>(depths_m.size()));
+  by_size<GridJob>(in.x_modes.size() + in.y_modes.size(), in, o, depths_m, out);
+  return out;
 }
 
 double sd_spectral_radius(const LobesInput& in, const SemiDiscretizationOptions& o,
