@@ -26,8 +26,8 @@
 #include <complex>
 #include <limits>
 #include <thread>
-#include <utility>
 #include <unsupported/Eigen/MatrixFunctions>
+#include <utility>
 
 #include "analysis/common/constants.h"
 #include "analysis/common/require.h"

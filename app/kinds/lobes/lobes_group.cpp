@@ -38,8 +38,9 @@ std::string modes_note(const std::vector<frf::Mode>& modes) {
   return s;
 }
 
-// The measured cuts of one condition, and the hysteresis bands of its incline/decline pairs.
-void measured_points(const std::vector<const CutSummary*>& cuts, LobeDiagram& d) {
+}  // namespace
+
+void add_measured_points(const std::vector<const CutSummary*>& cuts, LobeDiagram& d) {
   for (const CutSummary* c : cuts) {
     MeasuredPoint p;
     p.test = c->id;
@@ -83,6 +84,8 @@ void measured_points(const std::vector<const CutSummary*>& cuts, LobeDiagram& d)
   d.measured_rpm.erase(std::unique(d.measured_rpm.begin(), d.measured_rpm.end()),
                        d.measured_rpm.end());
 }
+
+namespace {
 
 // Speeds of a diagram: half the slowest to 1.5 times the fastest measured cut; without cuts,
 // 0.2 to 1.5 times the speed whose tooth-passing frequency is the dominant mode's.
@@ -196,7 +199,7 @@ void LobesGroup::run(const CampaignValues& in, const RunContext& ctx, GroupOutco
     for (const CutSummary* s : cuts) {
       if (same_condition(*s, op, immersion)) here.push_back(s);
     }
-    measured_points(here, d);
+    add_measured_points(here, d);
     double deepest = 0.0;
     for (const auto& p : d.measured) deepest = std::max(deepest, p.depth_high_m);
     // Depths searched: twice the deepest measured cut, at least 10 mm (docs/lobes.md).

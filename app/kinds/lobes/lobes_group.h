@@ -46,6 +46,13 @@ struct LobesGroupResult : KindResult {
   std::vector<LobeDiagram> diagrams;
 };
 
+struct CutSummary;  // app/kinds/cut/cut_summary.h
+
+// The measured cuts of one condition as points and segments (docs/lobes.md "Measured points"),
+// the hysteresis band of each incline and decline at one speed (within 0.1 %), and the distinct
+// measured speeds, into d.
+void add_measured_points(const std::vector<const CutSummary*>& cuts, LobeDiagram& d);
+
 class LobesGroup : public GroupProduct {
  public:
   std::string name() const override { return "lobes"; }
