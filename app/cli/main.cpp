@@ -1,6 +1,7 @@
 // chatterlab: campaign folder -> HTML report, PDF and results.json (docs/architecture.md).
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <sstream>
 #include <streambuf>
@@ -181,6 +182,29 @@ int main(int argc, char** argv) {
       log_buf.release(true);
       return rc;
     }
+    // simulate and lobes: refused before any work when --out is not ours; the output is written
+    // into a temporary folder that replaces --out once the run returned (a run that diverged or
+    // whose PDF failed still wrote its report, exit 1); a spec error (an exception) leaves --out
+    // as it was. Quiet: the summary is dropped, and what the run said goes to stderr when it
+    // failed (it names the PDF error or the divergence there).
+    const auto run_spec_command =
+        [&](const std::function<int(const std::filesystem::path&, std::ostream&)>& run) {
+          chatterlab::app::OutputFolder folder(out);
+          work_shown = folder.work().string();
+          out_shown = folder.dir().string();
+          std::ostringstream held;
+          int rc = 0;
+          {
+            RewritingBuf buf(line.quiet ? static_cast<std::ostream&>(held) : std::cout, work_shown,
+                             out_shown);
+            std::ostream run_log(&buf);
+            rc = run(folder.work(), run_log);
+            folder.commit();
+            buf.release(true);
+          }
+          if (line.quiet && rc != 0) std::cerr << held.str();
+          return rc;
+        };
     if (cmd == "simulate") {
       if (positional.size() != 1 || out.empty()) {
         return usage_error("simulate takes one spec file and --out <dir>", cmd);
@@ -190,25 +214,9 @@ int main(int argc, char** argv) {
       so.report = !results_only;
       so.jobs = report_options.jobs;
       so.warnings = &std::cerr;
-      chatterlab::app::OutputFolder folder(out);
-      work_shown = folder.work().string();
-      out_shown = folder.dir().string();
-      // Quiet: the summary is dropped, and what run_simulate said goes to stderr when it
-      // failed (it names the PDF error or the divergence there).
-      std::ostringstream held;
-      int rc = 0;
-      {
-        RewritingBuf buf(line.quiet ? static_cast<std::ostream&>(held) : std::cout, work_shown,
-                         out_shown);
-        std::ostream sim_log(&buf);
-        rc = chatterlab::app::run_simulate(positional[0], folder.work(), so, sim_log);
-        // A run that diverged or whose PDF failed still wrote its report (exit 1): it replaces
-        // the previous one; a spec error (an exception) leaves --out as it was.
-        folder.commit();
-        buf.release(true);
-      }
-      if (line.quiet && rc != 0) std::cerr << held.str();
-      return rc;
+      return run_spec_command([&](const std::filesystem::path& work, std::ostream& run_log) {
+        return chatterlab::app::run_simulate(positional[0], work, so, run_log);
+      });
     }
     if (cmd == "lobes") {
       if (positional.size() != 1 || out.empty()) {
@@ -219,23 +227,9 @@ int main(int argc, char** argv) {
       lo.report = !results_only;
       lo.jobs = report_options.jobs;
       lo.warnings = &std::cerr;
-      // As simulate: refused before any work when --out is not ours; a spec error leaves --out
-      // as it was.
-      chatterlab::app::OutputFolder folder(out);
-      work_shown = folder.work().string();
-      out_shown = folder.dir().string();
-      std::ostringstream held;
-      int rc = 0;
-      {
-        RewritingBuf buf(line.quiet ? static_cast<std::ostream&>(held) : std::cout, work_shown,
-                         out_shown);
-        std::ostream lobes_log(&buf);
-        rc = chatterlab::app::run_lobes(positional[0], folder.work(), lo, lobes_log);
-        folder.commit();
-        buf.release(true);
-      }
-      if (line.quiet && rc != 0) std::cerr << held.str();
-      return rc;
+      return run_spec_command([&](const std::filesystem::path& work, std::ostream& run_log) {
+        return chatterlab::app::run_lobes(positional[0], work, lo, run_log);
+      });
     }
     if (cmd == "synth") {
       if (positional.size() != 1 || out.empty()) {

@@ -83,8 +83,7 @@ int run_lobes(const std::filesystem::path& spec_file, const std::filesystem::pat
 
   if (!options.report) {
     results["warnings"] = warnings;
-    write_file_checked(out / "results.json",
-                       results.dump(2, ' ', false, json::error_handler_t::replace) + "\n");
+    write_results_json(out / "results.json", results);
     log << "lobes: " << in.spindle_rpm.size() << " speeds; wrote "
         << (out / "results.json").string() << "\n";
     return 0;
@@ -101,16 +100,9 @@ int run_lobes(const std::filesystem::path& spec_file, const std::filesystem::pat
     warnings.push_back(std::string("figure figures/lobes not drawn: ") + e.what());
   }
   results["warnings"] = warnings;
-  write_file_checked(out / "results.json",
-                     results.dump(2, ' ', false, json::error_handler_t::replace) + "\n");
+  write_results_json(out / "results.json", results);
 
-  json ctx;
-  ctx["name"] = spec_file.stem().string();
-  ctx["generated_utc"] = utc_timestamp();
-  ctx["generated_iso"] = utc_timestamp_iso();
-  ctx["version"] = CHATTERLAB_VERSION;
-  ctx["spec_file"] = spec_file.filename().string();
-  ctx["spec_sha256"] = results["spec_sha256"];
+  json ctx = spec_document_context(spec_file, results["spec_sha256"].get<std::string>());
   ctx["tool"] =
       std::to_string(in.teeth) + " teeth, radius " + fmt_sig(in.radius_m * kMToMm, 4) + " mm";
   ctx["modal"] = "x: " + modes_text(in.x_modes) + "; y: " + modes_text(in.y_modes);

@@ -91,4 +91,21 @@ bool write_documents(const std::string& template_name, const nlohmann::json& ctx
   }
 }
 
+nlohmann::json spec_document_context(const std::filesystem::path& spec_file,
+                                     const std::string& spec_sha256) {
+  nlohmann::json ctx;
+  ctx["name"] = spec_file.stem().string();
+  ctx["generated_utc"] = utc_timestamp();
+  ctx["generated_iso"] = utc_timestamp_iso();
+  ctx["version"] = CHATTERLAB_VERSION;
+  ctx["spec_file"] = spec_file.filename().string();
+  ctx["spec_sha256"] = spec_sha256;
+  return ctx;
+}
+
+void write_results_json(const std::filesystem::path& file, const nlohmann::json& results) {
+  write_file_checked(file,
+                     results.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+}
+
 }  // namespace chatterlab::app

@@ -19,6 +19,15 @@ std::string utc_timestamp();
 // "2026-11-23T01:57:09Z": the same moment as a W3C date (the PDF's creation date).
 std::string utc_timestamp_iso();
 
+// The title-page keys of a spec command's report (simulate, lobes): name (the spec's stem),
+// generated_utc, generated_iso, version, spec_file (its name only: no path of the machine) and
+// spec_sha256.
+nlohmann::json spec_document_context(const std::filesystem::path& spec_file,
+                                     const std::string& spec_sha256);
+
+// results.json as the spec commands write it: two-space indent, invalid UTF-8 replaced.
+void write_results_json(const std::filesystem::path& file, const nlohmann::json& results);
+
 struct DocumentOptions {
   bool pdf = true;           // write out/report.pdf through WeasyPrint
   bool single_file = false;  // also write out/report.html: stylesheet and figures inside it

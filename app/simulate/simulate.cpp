@@ -222,8 +222,7 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
   if (!options.report) {
     results["warnings"] = warnings;
     std::filesystem::create_directories(out);
-    write_file_checked(out / "results.json",
-                       results.dump(2, ' ', false, json::error_handler_t::replace) + "\n");
+    write_results_json(out / "results.json", results);
     log << "simulate: " << sim.revolutions << " revolutions, " << sim.steps << " steps in "
         << fmt_sig(sim.runtime_s, 3) << " s; wrote " << (out / "results.json").string() << "\n";
     return 0;
@@ -264,17 +263,10 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
     if (!e.empty()) warnings.push_back(e);
   }
   results["warnings"] = warnings;
-  write_file_checked(out / "results.json",
-                     results.dump(2, ' ', false, json::error_handler_t::replace) + "\n");
+  write_results_json(out / "results.json", results);
 
   // HTML and PDF.
-  json ctx;
-  ctx["name"] = spec_file.stem().string();
-  ctx["generated_utc"] = utc_timestamp();
-  ctx["generated_iso"] = utc_timestamp_iso();
-  ctx["version"] = CHATTERLAB_VERSION;
-  ctx["spec_file"] = spec_file.filename().string();  // its name only: no path of the machine
-  ctx["spec_sha256"] = results["spec_sha256"];
+  json ctx = spec_document_context(spec_file, results["spec_sha256"].get<std::string>());
   ctx["tool"] =
       std::to_string(spec.teeth) + " teeth, radius " + fmt_sig(spec.radius_m * kMToMm, 4) + " mm";
   ctx["modal"] =
