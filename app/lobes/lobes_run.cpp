@@ -6,7 +6,6 @@
 #include <thread>
 
 #include "analysis/common/constants.h"
-#include "app/core/checked_write.h"
 #include "app/core/format.h"
 #include "app/core/hashing.h"
 #include "app/lobes/lobes_output.h"
