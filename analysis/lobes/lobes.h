@@ -38,6 +38,10 @@ struct LobesInput {
   double max_depth_m = 10e-3;            // depths searched: (0, max_depth_m]
 };
 
+// Largest delay state (steps_per_tooth x modes, plus the 2 d of the state) semi_discretization
+// accepts: an InputError beyond it.
+constexpr long long kMaxDelayStates = 8192;
+
 // Options of the semi-discretization (Insperger-Stepan 2004).
 struct SemiDiscretizationOptions {
   int steps_per_tooth = 30;  // m: intervals per delay tau (dt = tau / m), >= 2

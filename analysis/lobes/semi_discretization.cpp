@@ -49,6 +49,16 @@ void validate_options(const SemiDiscretizationOptions& o) {
   require_rule(o.threads >= 1, "semi_discretization.threads", o.threads, "must be >= 1");
 }
 
+// The delay state's size (steps_per_tooth x modes) bounds the eigenvalue problem (at most
+// 2 d + m d square): kMaxDelayStates keeps it under 8,192^2 doubles (512 MB) per thread.
+void validate_size(const LobesInput& in, const SemiDiscretizationOptions& o) {
+  const auto d = static_cast<long long>(in.x_modes.size() + in.y_modes.size());
+  require_rule(static_cast<long long>(o.steps_per_tooth) * d + 2 * d <= kMaxDelayStates,
+               "semi_discretization.steps_per_tooth x modes", o.steps_per_tooth * d,
+               "must be at most " + std::to_string(kMaxDelayStates) +
+                   " (the delay state of the eigenvalue problem)");
+}
+
 bool equal_teeth(const LobesInput& in) {
   for (int p = 1; p < in.teeth; ++p) {
     if (in.Kt_N_m2[p] != in.Kt_N_m2[0] || in.Kr_N_m2[p] != in.Kr_N_m2[0]) return false;
@@ -184,13 +194,14 @@ class Kernel {
     }
     top_.resize(s_, c);
     next_.resize(s_, c);
-    hist_.resize(static_cast<Eigen::Index>(model_.intervals + 1) * d_, c);
+    hist_.resize(static_cast<Eigen::Index>(m_ + 1) * d_, c);
   }
 
   // Critical (largest-modulus) Floquet multiplier at depth b.
   //
   // Only the columns C of the monodromy matrix are propagated (the others end zero, set_speed),
-  // and the delayed part of Y_i is never moved: q_k (k >= 0) is kept as block k of hist_ (the
+  // and the delayed part of Y_i is never moved: q_k (k >= 0) is kept as block k mod (m + 1) of
+  // hist_, a ring of the last m + 1 (the
   // first d rows of z_k), and q_{-j} is block j of the initial identity. The map of interval i
   // reads q_{i-m+1} and q_{i-m} from there, so a step costs O(S^2 |C|) instead of the O(D^2) of
   // shifting the whole delay state (docs/lobes.md "Speed").
@@ -203,7 +214,7 @@ class Kernel {
     // next_ += R q_k for the k of q_{i-m+1} or q_{i-m}.
     const auto add_delayed = [&](const MatSd& R, int k) {
       if (k >= 0) {
-        next_.noalias() += R * hist_.middleRows(static_cast<Eigen::Index>(k) * d_, d_);
+        next_.noalias() += R * hist_.middleRows(slot(k), d_);
         return;
       }
       const int pos = block_pos_[static_cast<std::size_t>(-k)];
@@ -226,7 +237,8 @@ class Kernel {
         add_delayed(R0_, i - m_);
       }
       top_.swap(next_);
-      hist_.middleRows(static_cast<Eigen::Index>(i + 1) * d_, d_) = top_.topRows(d_);
+      // Block i + 1 takes the slot of q_{i-m}, read above for the last time.
+      hist_.middleRows(slot(i + 1), d_) = top_.topRows(d_);
     }
     // Rows C of Y_K = [z_K; q_{K-1}; ...; q_{K-m}] (K >= m: every q from hist_).
     const int K = model_.intervals;
@@ -236,7 +248,7 @@ class Kernel {
         Xc_.row(a) = top_.row(row);
       } else {
         const int j = (row - s_) / d_ + 1, r = (row - s_) % d_;
-        Xc_.row(a) = hist_.row(static_cast<Eigen::Index>(K - j) * d_ + r);
+        Xc_.row(a) = hist_.row(slot(K - j) + r);
       }
     }
     es_.compute(Xc_, false);
@@ -245,6 +257,9 @@ class Kernel {
     ev.cwiseAbs().maxCoeff(&k);
     return ev(k);
   }
+
+  // First row of q_k in the ring hist_ (k >= 0).
+  Eigen::Index slot(int k) const { return static_cast<Eigen::Index>(k % (m_ + 1)) * d_; }
 
   // log |mu| at depth 0: the free motion over the period, T times the largest real part of
   // the modes' eigenvalues (-zeta wn, or -zeta wn + wn sqrt(zeta^2 - 1) when overdamped).
@@ -286,7 +301,7 @@ class Kernel {
     for (int j = 1; j <= o_.coarse_depths; ++j) {
       const double b = bmax * j / o_.coarse_depths;
       const std::complex<double> mu = critical_multiplier(b);
-      if (std::abs(mu) >= 1.0) {
+      if (!(std::abs(mu) < 1.0)) {  // a non-finite multiplier counts as unstable
         hi = b;
         mu_hi = mu;
         break;
@@ -306,13 +321,14 @@ class Kernel {
     while (hi - lo > o_.depth_rel_tol * hi) {
       const double width = hi - lo;
       double b = 0.5 * (lo + hi);
-      if (!bisect && fhi > flo) {
+      if (!bisect && std::isfinite(flo) && std::isfinite(fhi) && fhi > flo) {
         const double eps = 0.25 * o_.depth_rel_tol * hi;  // keep clear of the ends
         b = std::clamp((lo * fhi - hi * flo) / (fhi - flo), lo + eps, hi - eps);
       }
+      if (!std::isfinite(b)) b = 0.5 * (lo + hi);
       const std::complex<double> mu = critical_multiplier(b);
       const double f = std::log(std::abs(mu));
-      if (f >= 0.0) {
+      if (!(f < 0.0)) {  // unstable, or a non-finite multiplier
         hi = b;
         fhi = f;
         mu_hi = mu;
@@ -346,7 +362,7 @@ class Kernel {
   MatS A_, phi_free_;
   MatE E_, Ex_;
   MatSd top_, next_;      // z_i and z_{i+1}, columns C
-  Eigen::MatrixXd hist_;  // block k (d rows): q_k = first d rows of z_k, columns C
+  Eigen::MatrixXd hist_;  // ring of m + 1 blocks of d rows: q_k = first d rows of z_k, columns C
   std::vector<int> block_pos_;
   Eigen::MatrixXd Xc_;     // X[C, C]
   std::vector<int> cols_;  // C: the columns of X that can be non-zero (set_speed)
@@ -436,6 +452,7 @@ struct GridJob {
 LobesResult semi_discretization(const LobesInput& in, const SemiDiscretizationOptions& o) {
   validate(in);
   validate_options(o);
+  validate_size(in, o);
   const auto start = std::chrono::steady_clock::now();
   LobesResult r;
   r.speeds.resize(in.spindle_rpm.size());
@@ -454,6 +471,7 @@ Eigen::MatrixXd sd_spectral_radius_grid(const LobesInput& in, const SemiDiscreti
                                         const std::vector<double>& depths_m) {
   validate(in);
   validate_options(o);
+  validate_size(in, o);
   for (std::size_t j = 0; j < depths_m.size(); ++j) {
     require_rule(std::isfinite(depths_m[j]) && depths_m[j] >= 0.0,
                  "depths_m[" + std::to_string(j) + "]", depths_m[j], "must be finite and >= 0");
@@ -468,6 +486,7 @@ double sd_spectral_radius(const LobesInput& in, const SemiDiscretizationOptions&
                           double spindle_rpm, double depth_m) {
   validate(in);
   validate_options(o);
+  validate_size(in, o);
   Kernel<Eigen::Dynamic> k(in, o);
   k.set_speed(spindle_rpm);
   return std::abs(k.critical_multiplier(depth_m));

@@ -19,7 +19,8 @@ constexpr double kMm = 1e-3;
 std::vector<ModalParameters> read_axis(const YAML::Node& n, YamlReader& r,
                                        const std::string& path) {
   std::vector<ModalParameters> modes;
-  if (!n || !n.IsMap()) {
+  if (!n) return modes;  // an absent axis is rigid (docs/format/lobes.md)
+  if (!n.IsMap()) {
     r.error(path, "must be {modes: [{m_kg, c_kg_s, k_N_m}, ...]} or {m_kg, c_kg_s, k_N_m}");
     return modes;
   }
@@ -84,7 +85,7 @@ LobesSpec load_lobes_spec(const std::filesystem::path& file) {
     r.check_keys(modal, {"x", "y"}, "modal");
     in.x_modes = read_axis(modal["x"], r, "modal.x");
     in.y_modes = read_axis(modal["y"], r, "modal.y");
-    if (modal["x"] && modal["y"] && in.x_modes.empty() && in.y_modes.empty()) {
+    if (in.x_modes.empty() && in.y_modes.empty()) {
       r.error("modal", "has no mode on either axis: give at least one");
     }
   } else {
@@ -125,8 +126,13 @@ LobesSpec load_lobes_spec(const std::filesystem::path& file) {
       r.error("spindle_rpm", "must be > 0");
     } else if (rpm->first == rpm->second) {
       in.spindle_rpm = {rpm->first};
+      if (root["speeds"] && speeds != 1) {
+        r.warn("speeds", "is ignored: spindle_rpm is one speed");
+      }
     } else if (rpm->first > rpm->second) {
       r.error("spindle_rpm", "must be [low, high] with low < high");
+    } else if (speeds < 2) {
+      r.error("speeds", "must be at least 2 for a range of spindle_rpm (its ends)");
     } else {
       const long n = std::max(speeds, 2L);
       for (long i = 0; i < n; ++i) {
@@ -136,7 +142,9 @@ LobesSpec load_lobes_spec(const std::filesystem::path& file) {
     }
   }
   in.max_depth_m = r.optional_double(root, "max_depth_mm").value_or(10.0) * kMm;
-  if (!(in.max_depth_m > 0)) r.error("max_depth_mm", "must be > 0");
+  if (!(in.max_depth_m > 0) || in.max_depth_m > kMaxLobeDepthMm * kMm) {
+    r.error("max_depth_mm", "must be > 0 and at most " + std::to_string(kMaxLobeDepthMm) + " mm");
+  }
   if (root["methods"]) {
     const auto methods = r.string_list(root, "methods", false);
     s.semi_discretization = s.zoa = false;
@@ -155,6 +163,13 @@ LobesSpec load_lobes_spec(const std::filesystem::path& file) {
   }
   s.steps_per_tooth = static_cast<int>(
       r.optional_int(root, "steps_per_tooth", "", 2, kMaxLobeStepsPerTooth).value_or(0));
+  const auto modes = static_cast<long long>(in.x_modes.size() + in.y_modes.size());
+  if (s.steps_per_tooth > 0 && (s.steps_per_tooth + 2LL) * modes > lobes::kMaxDelayStates) {
+    r.error("steps_per_tooth",
+            std::to_string(s.steps_per_tooth) + " intervals with " + std::to_string(modes) +
+                " modes: (steps_per_tooth + 2) x modes must be at most " +
+                std::to_string(lobes::kMaxDelayStates) + " (the size of the eigenvalue problem)");
+  }
   if (!r.errors().empty()) {
     std::string msg;
     for (const auto& e : r.errors()) msg += (msg.empty() ? "" : "\n") + e;

@@ -14,6 +14,7 @@ namespace chatterlab::app {
 constexpr long kMaxLobeSpeeds = 20000;
 constexpr long kMaxModesPerAxis = 8;
 constexpr long kMaxLobeStepsPerTooth = 2000;
+constexpr long kMaxLobeDepthMm = 1000;
 
 struct LobesSpec {
   lobes::LobesInput input;  // speeds filled from spindle_rpm and speeds

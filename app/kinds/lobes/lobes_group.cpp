@@ -5,6 +5,7 @@
 #include <map>
 
 #include "analysis/common/constants.h"
+#include "analysis/common/summary.h"
 #include "analysis/frf/mode.h"
 #include "app/core/format.h"
 #include "app/kinds/cut/cut_summary.h"
@@ -130,6 +131,19 @@ void compute(LobeSource& s, const LobeDiagram& d, int jobs, bool zoa) {
   }
 }
 
+// Computes a source and adds it to the diagram; values the lobes cannot take (an identified
+// damping below zero, a mode with a NaN) leave a note naming the source instead, and the other
+// sources are drawn.
+void add_source(LobeSource s, LobeDiagram& d, int jobs, bool zoa) {
+  try {
+    compute(s, d, jobs, zoa);
+  } catch (const InputError& e) {
+    d.notes.push_back(s.label + ": lobes not drawn: " + e.what());
+    return;
+  }
+  d.sources.push_back(std::move(s));
+}
+
 std::optional<double> limit_at(const LobeSource& s, double rpm) {
   for (const auto& r : s.at_measured.speeds) {
     if (r.spindle_rpm == rpm) return r.limit_depth_m;
@@ -193,8 +207,15 @@ void LobesGroup::run(const CampaignValues& in, const RunContext& ctx, GroupOutco
     LobeDiagram d;
     d.operation = op;
     d.radial_immersion_m = immersion;
+    // Figure names: unique per diagram even for immersions that print alike.
     d.slug = std::string(op == milling::Operation::kDownMilling ? "down" : "up") + "-" +
              fmt_sig(immersion * kMToMm, 4) + "mm";
+    for (const auto& other : result->diagrams) {
+      if (other.slug == d.slug) {
+        d.slug += "-" + std::to_string(result->diagrams.size() + 1);
+        break;
+      }
+    }
     std::vector<const CutSummary*> here;
     for (const CutSummary* s : cuts) {
       if (same_condition(*s, op, immersion)) here.push_back(s);
@@ -210,6 +231,10 @@ void LobesGroup::run(const CampaignValues& in, const RunContext& ctx, GroupOutco
     base.radius_m = tool.radius_m;
     base.operation = op;
     base.radial_immersion_m = std::min(immersion, 2.0 * tool.radius_m);
+    if (immersion > 2.0 * tool.radius_m) {
+      d.notes.push_back("radial immersion " + fmt_sig(immersion * kMToMm, 4) +
+                        " mm is more than the tool diameter: drawn as a slot");
+    }
     if (modes_x && dyno) {
       LobeSource s;
       s.key = "hammer-dyno";
@@ -224,8 +249,7 @@ void LobesGroup::run(const CampaignValues& in, const RunContext& ctx, GroupOutco
                         : std::string("the same on y (no tap test of y)")) +
                "; Ktc, Krc of the dyno-slot group on every tooth (edge terms do not enter the "
                "linear model)";
-      compute(s, d, ctx.jobs, true);
-      d.sources.push_back(std::move(s));
+      add_source(std::move(s), d, ctx.jobs, true);
     } else {
       d.notes.push_back(
           "hammer + dynamometer lobes not drawn: " +
@@ -236,7 +260,12 @@ void LobesGroup::run(const CampaignValues& in, const RunContext& ctx, GroupOutco
     for (const CutSummary* cs : cuts) {
       if (!same_condition(*cs, op, immersion)) continue;
       if (!cs->identified) continue;
-      if (static_cast<int>(cs->Kt_N_m2.size()) != tool.teeth) continue;
+      if (static_cast<int>(cs->Kt_N_m2.size()) != tool.teeth) {
+        d.notes.push_back("identified, " + cs->id +
+                          ": lobes not drawn: " + std::to_string(cs->Kt_N_m2.size()) +
+                          " coefficient pairs for a " + std::to_string(tool.teeth) + "-tooth tool");
+        continue;
+      }
       LobeSource s;
       s.key = "identified:" + cs->id;
       s.label = "identified, " + cs->id;
@@ -247,8 +276,7 @@ void LobesGroup::run(const CampaignValues& in, const RunContext& ctx, GroupOutco
       s.input.Kr_N_m2 = cs->Kr_N_m2;
       s.note =
           "m, c, k (x and y) and per-tooth Kt, Kr identified from " + cs->id + " (000 sec. 5.1)";
-      compute(s, d, ctx.jobs, false);
-      d.sources.push_back(std::move(s));
+      add_source(std::move(s), d, ctx.jobs, false);
     }
     if (d.sources.empty() && d.notes.empty()) {
       d.notes.push_back("no identified set at this condition");
@@ -256,12 +284,16 @@ void LobesGroup::run(const CampaignValues& in, const RunContext& ctx, GroupOutco
     result->diagrams.push_back(std::move(d));
   }
   bool any = false;
-  for (const auto& d : result->diagrams) any = any || !d.sources.empty();
+  std::string why;
+  for (const auto& d : result->diagrams) {
+    any = any || !d.sources.empty();
+    for (const auto& n : d.notes) why += (why.empty() ? "" : "; ") + n;
+  }
   out.result = std::move(result);
   if (!any) {
-    out.status.fail("no modal parameters with cutting coefficients: " +
-                    out.result_as<LobesGroupResult>()->diagrams.front().notes.front() +
-                    "; and no cut test with an identified set");
+    out.status.fail(
+        "no lobes could be drawn: " +
+        (why.empty() ? std::string("no modal parameters with cutting coefficients") : why));
     return;
   }
   out.status.succeed();

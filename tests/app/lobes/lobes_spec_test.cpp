@@ -85,6 +85,11 @@ TEST(LobesSpec, ModesPerAxisRigidAxisAndDefaults) {
       d.write("one.yaml", with(spec, "y: {modes: []}", "y: {m_kg: 0.05, c_kg_s: 6, k_N_m: 2e6}")));
   ASSERT_EQ(one.input.y_modes.size(), 1u);
   EXPECT_DOUBLE_EQ(one.input.y_modes[0].k_N_m, 2e6);
+  // An absent axis is rigid, as an empty list (docs/format/lobes.md).
+  const LobesSpec absent =
+      load_lobes_spec(d.write("absent.yaml", with(spec, "  y: {modes: []}\n", "")));
+  EXPECT_EQ(absent.input.x_modes.size(), 2u);
+  EXPECT_TRUE(absent.input.y_modes.empty());
   const LobesSpec only = load_lobes_spec(d.write(
       "only.yaml", with(spec, "spindle_rpm: 12000\n", "spindle_rpm: 12000\nmethods: [zoa]\n")));
   EXPECT_FALSE(only.semi_discretization);
@@ -110,6 +115,24 @@ TEST(LobesSpec, ErrorsNameFileAndKey) {
   EXPECT_NE(error_of(with(kSpec, "[2.483e8, 6.641e9]", "[1e8, 2e8, 3e8]"))
                 .find("key 'coefficients.Kt_N_m2' has 3 values: give one number or one per tooth "
                       "(2)"),
+            std::string::npos);
+  EXPECT_NE(error_of(with(kSpec, "speeds: 200", "speeds: 1"))
+                .find("key 'speeds' must be at least 2 for a range of spindle_rpm"),
+            std::string::npos);
+  EXPECT_NE(error_of(with(kSpec, "max_depth_mm: 10", "max_depth_mm: 1e9"))
+                .find("key 'max_depth_mm' must be > 0 and at most 1000 mm"),
+            std::string::npos);
+  EXPECT_NE(error_of(with(kSpec, "max_depth_mm: 10",
+                          "max_depth_mm: 10\nsteps_per_tooth: 2000\n"
+                          "tool_note: x"))
+                .find("no error"),
+            std::string::npos);  // 2 modes: 4,004 <= 8,192
+  EXPECT_NE(error_of(with(kSpec, "modal: {m_kg: 0.03134, c_kg_s: 22.21, k_N_m: 9.84e5}",
+                          "modal: {x: {modes: [{m_kg: 1, c_kg_s: 1, k_N_m: 1}, {m_kg: 1, c_kg_s: "
+                          "1, k_N_m: 1}, {m_kg: 1, c_kg_s: 1, k_N_m: 1}]}, y: {modes: [{m_kg: 1, "
+                          "c_kg_s: 1, k_N_m: 1}, {m_kg: 1, c_kg_s: 1, k_N_m: 1}]}}") +
+                     "steps_per_tooth: 2000\n")
+                .find("key 'steps_per_tooth' 2000 intervals with 5 modes"),
             std::string::npos);
   EXPECT_NE(error_of(with(kSpec, "max_depth_mm: 10", "max_depth_mm: -1"))
                 .find("key 'max_depth_mm' must be > 0"),
