@@ -229,7 +229,13 @@ CutOutcome run_cut_test(const TestSpec& t, const CutStepInputs& in, const CutSte
   if (out.ramped) {
     run_measured_bifurcation(t, tip, out);
   } else {
-    run_constant_depth_orbit(t, tip, out);
+    // Optional: a window the map cannot use (a few samples, a zero noise floor) leaves the
+    // state undetermined with the reason and the rest of the test runs.
+    try {
+      run_constant_depth_orbit(t, tip, out);
+    } catch (const InputError& e) {
+      out.orbit_status.fail(std::string("stable or chatter not determined: ") + e.what());
+    }
   }
   if (!options.estimation_errors.empty()) {
     std::string why;
