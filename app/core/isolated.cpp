@@ -57,9 +57,14 @@ std::string reply_of(const std::function<std::string()>& work) {
   }
 }
 
-// The bytes of a reply, or its error thrown as an InputError.
+// The bytes of a reply (a status byte first, as reply_of writes it), or its error thrown as an
+// InputError.
 std::string from_reply(std::string reply, const IsolatedOptions& options) {
-  return from_reply(std::move(reply), options);
+  const char kind = reply.empty() ? kOtherError : reply[0];
+  if (!reply.empty()) reply.erase(0, 1);
+  if (kind == kOk) return reply;
+  if (kind == kInputError) throw InputError(reply);
+  throw InputError(options.what + ": " + reply);
 }
 
 [[noreturn]] void child(int fd, const std::function<std::string()>& work) {
@@ -166,11 +171,7 @@ std::string run_isolated(const std::function<std::string()>& work, const Isolate
                      std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +
                      ", a damaged file the library cannot read)");
   }
-  const char kind = reply[0];
-  reply.erase(0, 1);
-  if (kind == kOk) return reply;
-  if (kind == kInputError) throw InputError(reply);
-  throw InputError(options.what + ": " + reply);
+  return from_reply(std::move(reply), options);
 }
 
 void ByteWriter::u64(std::uint64_t v) {

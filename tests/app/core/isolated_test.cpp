@@ -63,8 +63,15 @@ TEST(Isolated, WithOtherThreadsTheWorkRunsInAChildUnlessUnderGccAsan) {
     while (!stop) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   });
   const std::string pid = run_isolated([] { return std::to_string(::getpid()); }, named("pid"));
+  // The reply is decoded alike on both paths: bytes, an input error, another error.
+  const std::string input_error = message_of(
+      []() -> std::string { throw InputError("f.mat: variable 'x' is missing"); }, named("f.mat"));
+  const std::string other_error =
+      message_of([]() -> std::string { throw std::runtime_error("boom"); }, named("f.mat"));
   stop = true;
   other.join();
+  EXPECT_EQ(input_error, "f.mat: variable 'x' is missing");
+  EXPECT_EQ(other_error, "f.mat: boom");
 #if defined(__SANITIZE_ADDRESS__) && !defined(__clang__)
   EXPECT_EQ(pid, std::to_string(::getpid()));
 #else
