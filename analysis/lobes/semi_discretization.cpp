@@ -25,6 +25,7 @@
 #include <cmath>
 #include <complex>
 #include <limits>
+#include <optional>
 #include <thread>
 #include <unsupported/Eigen/MatrixFunctions>
 #include <utility>
@@ -190,7 +191,9 @@ class Kernel {
     }
     if (Xc_.rows() != c) {
       Xc_.resize(c, c);
-      es_ = Eigen::EigenSolver<Eigen::MatrixXd>(c);
+      // Constructed in place: assigning a fresh solver copies its members before any compute()
+      // set them (an uninitialized ComputationInfo: undefined behaviour under UBSan).
+      es_.emplace(c);
     }
     top_.resize(s_, c);
     next_.resize(s_, c);
@@ -251,8 +254,8 @@ class Kernel {
         Xc_.row(a) = hist_.row(slot(K - j) + r);
       }
     }
-    es_.compute(Xc_, false);
-    const auto& ev = es_.eigenvalues();
+    es_->compute(Xc_, false);
+    const auto& ev = es_->eigenvalues();
     Eigen::Index k = 0;
     ev.cwiseAbs().maxCoeff(&k);
     return ev(k);
@@ -367,7 +370,7 @@ class Kernel {
   Eigen::MatrixXd Xc_;     // X[C, C]
   std::vector<int> cols_;  // C: the columns of X that can be non-zero (set_speed)
   MatSd R1_, R0_;
-  Eigen::EigenSolver<Eigen::MatrixXd> es_;
+  std::optional<Eigen::EigenSolver<Eigen::MatrixXd>> es_;
   milling::EngagementWindow window_;
   bool revolution_ = false;
   double fdom_hz_ = 0.0;
