@@ -155,6 +155,9 @@ TEST(ReportBrowser, DemoReportLoadsCleanlyInHeadlessChromium) {
             << r.failed_loads.size() << " failed loads, " << r.network_urls.size()
             << " network requests\n"
             << "[ shot     ] " << shot.string() << "\n";
+  for (const auto& [name, seconds] : r.steps) {
+    std::cout << "[ step     ] " << seconds << " s " << name << "\n";
+  }
 
   nlohmann::json m{{"screen_bytes", r.screen_bytes},
                    {"expanded_bytes", r.expanded_bytes},
@@ -169,7 +172,8 @@ TEST(ReportBrowser, DemoReportLoadsCleanlyInHeadlessChromium) {
                    {"console_warnings", r.console_warnings},
                    {"failed_loads", r.failed_loads},
                    {"network_urls", r.network_urls},
-                   {"seconds", total_s}};
+                   {"seconds", total_s},
+                   {"step_seconds", r.steps}};
   std::ofstream(out / "measurements.json") << m.dump(2) << "\n";
 
   EXPECT_TRUE(r.broken_images.empty()) << r.broken_images.size() << " of " << r.images

@@ -46,6 +46,8 @@ struct ReportProbe {
   int details_closed = 0;
   int page_height_px = 0;
   std::vector<unsigned char> screenshot_png;  // the first screen, as opened
+  // Each step of the probe and the seconds it took, in order, for the test's output.
+  std::vector<std::pair<std::string, double>> steps;
 };
 
 namespace detail {
@@ -91,7 +93,10 @@ inline bool starts_with(const std::string& s, const std::string& prefix) {
 
 // Scrolls the page to its end a step of 80 % of the window at a time, letting two frames
 // render at each step so that lazy images near the viewport start loading; then scrolls to
-// each shown image that has still not loaded, as a reader reaching it would.
+// each shown image that has still not loaded, as a reader reaching it would. One call works
+// for at most about 5 s and returns {done, height}; the caller calls again until done, so that
+// a long page on a loaded machine never runs one protocol call into its timeout. The position
+// reached is kept in the page between calls.
 inline const char* kScrollToEnd = R"JS(
 (async () => {
   const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
@@ -99,20 +104,27 @@ inline const char* kScrollToEnd = R"JS(
   const settle = async () => { await frame(); await frame(); await sleep(20); };
   const el = document.scrollingElement || document.documentElement;
   const step = Math.max(100, Math.floor(window.innerHeight * 0.8));
-  for (let y = 0, i = 0; i < 5000; ++i, y += step) {
-    window.scrollTo(0, y);
+  const t0 = performance.now();
+  const s = window.__chatterlabScroll || (window.__chatterlabScroll = {y: 0, i: 0, image: 0});
+  const more = () => performance.now() - t0 < 5000;
+  for (; s.i < 5000 && more(); ++s.i, s.y += step) {
+    window.scrollTo(0, s.y);
     await settle();
-    if (y + window.innerHeight >= el.scrollHeight) break;
+    if (s.y + window.innerHeight >= el.scrollHeight) { s.i = 5000; break; }
   }
   const shown = (i) => i.getClientRects().length > 0 && !i.closest('details:not([open])');
-  for (const i of [...document.images]) {
+  const images = [...document.images];
+  for (; s.i >= 5000 && s.image < images.length && more(); ++s.image) {
+    const i = images[s.image];
     if (shown(i) && !(i.complete && i.naturalWidth > 0)) {
       i.scrollIntoView();
       await settle();
       await sleep(100);
     }
   }
-  return el.scrollHeight;
+  const done = s.i >= 5000 && s.image >= images.length;
+  if (done) delete window.__chatterlabScroll;
+  return {done: done, height: el.scrollHeight};
 })()
 )JS";
 
@@ -141,7 +153,9 @@ inline const char* kCollect = R"JS(
 (async () => {
   const images = await Promise.all([...document.images].map(async (i) => {
     let decoded = true;
-    try { await i.decode(); } catch (e) { decoded = false; }
+    // An image that never decodes counts as not decoded after 10 s, not as a hung page.
+    const late = new Promise((_, no) => setTimeout(() => no(new Error('late')), 10000));
+    try { await Promise.race([i.decode(), late]); } catch (e) { decoded = false; }
     return {src: i.getAttribute('src') || '', complete: i.complete, width: i.naturalWidth,
             decoded: decoded};
   }));
@@ -176,6 +190,8 @@ struct ProbeOptions {
   std::chrono::milliseconds load_timeout{45000};
   std::chrono::milliseconds idle{600};  // no request in flight and no network event this long
   std::chrono::milliseconds idle_timeout{20000};
+  // The whole scroll to the end, made of calls of about 5 s each (see kScrollToEnd).
+  std::chrono::milliseconds scroll_timeout{300000};
 };
 
 // Loads `index_html` (a file) in `chromium`, with its profile and log under `work`.
@@ -194,6 +210,10 @@ inline ReportProbe probe_report(const std::filesystem::path& chromium,
                 "--no-default-browser-check", "--disable-extensions", "--disable-sync",
                 "--disable-background-networking", "--disable-component-update",
                 "--disable-default-apps", "--disable-features=Translate,MediaRouter",
+                // Timers and frames at full rate, as for a reader's page in front: a loaded
+                // machine must not make Chromium treat the page as in the background.
+                "--disable-background-timer-throttling", "--disable-renderer-backgrounding",
+                "--disable-backgrounding-occluded-windows",
                 // Nothing from the network: no name resolves, and any other request goes to
                 // a proxy on the loopback discard port, which refuses it.
                 "--host-resolver-rules=MAP * ~NOTFOUND", "--proxy-server=127.0.0.1:9"},
@@ -229,14 +249,42 @@ inline ReportProbe probe_report(const std::filesystem::path& chromium,
         },
         o.idle_timeout);
   };
+  // The step under way, named in any error, and the time each step took.
+  ReportProbe r;
+  std::string step = "opening the page";
+  auto step_start = CdpBrowser::Clock::now();
+  auto begin_step = [&](const std::string& name) {
+    const auto now = CdpBrowser::Clock::now();
+    r.steps.emplace_back(step, std::chrono::duration<double>(now - step_start).count());
+    step = name;
+    step_start = now;
+  };
   auto evaluate = [&](const std::string& js) {
-    const json r = b.call("Runtime.evaluate",
-                          {{"expression", js}, {"awaitPromise", true}, {"returnByValue", true}},
-                          o.load_timeout);
-    if (r.contains("exceptionDetails")) {
-      throw std::runtime_error("page script failed: " + r["exceptionDetails"].dump());
+    json reply;
+    try {
+      reply = b.call("Runtime.evaluate",
+                     {{"expression", js}, {"awaitPromise", true}, {"returnByValue", true}},
+                     o.load_timeout);
+    } catch (const std::exception& e) {
+      throw std::runtime_error(std::string(e.what()) + " while " + step);
     }
-    return r.at("result").value("value", json());
+    if (reply.contains("exceptionDetails")) {
+      throw std::runtime_error("page script failed while " + step + ": " +
+                               reply["exceptionDetails"].dump());
+    }
+    return reply.at("result").value("value", json());
+  };
+  auto scroll_to_end = [&]() {
+    const auto deadline = CdpBrowser::Clock::now() + o.scroll_timeout;
+    for (int calls = 1;; ++calls) {
+      const json s = evaluate(detail::kScrollToEnd);
+      if (s.value("done", false)) return s.value("height", 0);
+      if (CdpBrowser::Clock::now() > deadline) {
+        throw std::runtime_error("the page did not scroll to its end in " +
+                                 std::to_string(o.scroll_timeout.count() / 1000) + " s (" +
+                                 std::to_string(calls) + " calls) while " + step);
+      }
+    }
   };
 
   const std::size_t navigate_at = b.events().size();
@@ -254,26 +302,35 @@ inline ReportProbe probe_report(const std::filesystem::path& chromium,
       },
       o.load_timeout);
   if (!loaded) throw std::runtime_error("the page's load event did not come in time");
+  begin_step("waiting for the loaded page to go idle");
   wait_idle();
 
-  ReportProbe r;
+  begin_step("taking the screenshot");
   const json shot = b.call("Page.captureScreenshot", {{"format", "png"}}, o.load_timeout);
   r.screenshot_png = base64_decode(shot.at("data").get<std::string>());
 
-  r.page_height_px = evaluate(detail::kScrollToEnd).get<int>();
+  begin_step("scrolling to the end as opened");
+  r.page_height_px = scroll_to_end();
+  begin_step("waiting for the scrolled page to go idle");
   wait_idle();
+  begin_step("counting the images loaded");
   r.images_loaded_as_opened = evaluate(detail::kImagesLoaded).get<int>();
   std::set<std::string> not_loaded_when_shown;
   for (const json& src : evaluate(detail::kShownNotLoaded)) {
     not_loaded_when_shown.insert(src.get<std::string>());
   }
   const std::size_t expand_at = b.events().size();
+  begin_step("opening every <details>");
   const json ex = evaluate(detail::kExpand);
   r.details = ex.value("details", 0);
   r.details_closed = ex.value("closed", 0);
-  evaluate(detail::kScrollToEnd);
+  begin_step("scrolling to the end with every <details> open");
+  scroll_to_end();
+  begin_step("waiting for the expanded page to go idle");
   wait_idle();
+  begin_step("collecting images and links");
   const json page = evaluate(detail::kCollect);
+  begin_step("");
 
   // Resources: what the protocol saw requested, finished or failed.
   std::map<std::string, std::pair<std::string, std::string>> requests;  // id -> url, type
