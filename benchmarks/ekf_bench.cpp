@@ -1,13 +1,15 @@
 // Speed of the EKF estimators (`make bench`; figures in docs/estimators.md). Target: one 6-state
 // filter step (predict + update, 000 eqs 4.5-4.9) at >= 2 million steps per second on one core.
 //
-// BM_FilterStep<Model>: the filter alone on precomputed force inputs and measurements.
+// BM_FilterStep<Model, unscented>: the filter alone (the EKF, or the UKF of
+// unscented_kalman_filter.h) on precomputed force inputs and measurements.
 // BM_Estimator/<variant>: a whole ekf_* call on 0.2 s of 000 table 5.2's incline-1 cut at 1 mm
 // (simulated at the filter step 5e-7 s, 5e-7 m noise): 396,000 steps, chips and history
 // included. items/s = steps/s (per-tooth: steps of the pair of filters).
 #include <benchmark/benchmark.h>
 
 #include <random>
+#include <type_traits>
 #include <vector>
 
 #include "analysis/estimate/ekf.h"
@@ -55,7 +57,7 @@ const std::vector<ToothCoefficients> kCoefficients{{2.483e8, 2.196e8}, {6.641e9,
 const ModalParameters kModal{0.03134, 22.21, 9.840e5};
 
 // The filter step alone: inputs and measurements of 4,096 samples of the cut, cycled.
-template <class Model>
+template <class Model, bool kUnscented>
 void BM_FilterStep(benchmark::State& state) {
   const MeasuredCut& cut = bench_cut();
   const CutChips chips(cut, CutSetup{});
@@ -82,8 +84,23 @@ void BM_FilterStep(benchmark::State& state) {
   if constexpr (Model::kStiffness >= 0) x0[Model::kStiffness] = kModal.k_N_m;
   if constexpr (Model::kKt >= 0) x0.template tail<2>() << 2e9, 1e9;
   typename Model::StateMatrix P0 = Model::StateMatrix::Identity();
-  ToolEkf<Model> f = make_tool_ekf(model, x0, P0, Model::Noise::Constant(0.1),
-                                   Model::Measurement::Constant(1e-10));
+  if constexpr (kUnscented) {
+    // Sigma points with positive masses: deflections of 0.1 mm, 1 m/s, parameters 20 %.
+    for (int a = 0; a < Model::kAxes; ++a) P0(2 * a, 2 * a) = 1e-8;
+    for (int i = Model::kFirstParameter; i < Model::kStates; ++i) {
+      P0(i, i) = 0.04 * x0[i] * x0[i];
+    }
+  }
+  using Filter = std::conditional_t<kUnscented, ToolUkf<Model>, ToolEkf<Model>>;
+  Filter f = [&]() {
+    const auto q = Model::Noise::Constant(0.1);
+    const auto r = Model::Measurement::Constant(1e-10);
+    if constexpr (kUnscented) {
+      return make_tool_ukf(model, x0, P0, q, r, kalman::UnscentedOptions{});
+    } else {
+      return make_tool_ekf(model, x0, P0, q, r);
+    }
+  }();
   std::size_t i = 0;
   for (auto _ : state) {
     f.predict(inputs[i]);
@@ -93,11 +110,16 @@ void BM_FilterStep(benchmark::State& state) {
   }
   state.SetItemsProcessed(state.iterations());  // items/s = filter steps/s
 }
-BENCHMARK_TEMPLATE(BM_FilterStep, ModalXModel);
-BENCHMARK_TEMPLATE(BM_FilterStep, ModalXyModel);
-BENCHMARK_TEMPLATE(BM_FilterStep, ModalXyMkModel);
-BENCHMARK_TEMPLATE(BM_FilterStep, ModalXyMcModel);
-BENCHMARK_TEMPLATE(BM_FilterStep, CoeffXyModel);
+BENCHMARK_TEMPLATE(BM_FilterStep, ModalXModel, false);
+BENCHMARK_TEMPLATE(BM_FilterStep, ModalXyModel, false);
+BENCHMARK_TEMPLATE(BM_FilterStep, ModalXyMkModel, false);
+BENCHMARK_TEMPLATE(BM_FilterStep, ModalXyMcModel, false);
+BENCHMARK_TEMPLATE(BM_FilterStep, CoeffXyModel, false);
+BENCHMARK_TEMPLATE(BM_FilterStep, ModalXModel, true);
+BENCHMARK_TEMPLATE(BM_FilterStep, ModalXyModel, true);
+BENCHMARK_TEMPLATE(BM_FilterStep, ModalXyMkModel, true);
+BENCHMARK_TEMPLATE(BM_FilterStep, ModalXyMcModel, true);
+BENCHMARK_TEMPLATE(BM_FilterStep, CoeffXyModel, true);
 
 void BM_Estimator(benchmark::State& state) {
   const EstimatorId id = static_cast<EstimatorId>(state.range(0));
@@ -107,7 +129,7 @@ void BM_Estimator(benchmark::State& state) {
     EkfResult r;
     if (is_modal(id)) {
       r = ekf_modal(id, cut, CutSetup{}, {kCoefficients, {0.02270, 22.21, 1.162e6}});
-    } else if (id == EstimatorId::kCoeffXy) {
+    } else if (structure_of(id) == EstimatorId::kCoeffXy) {
       r = ekf_coeff(id, cut, CutSetup{}, {kModal, {{2e9, 1e9}}});
     } else {
       r = ekf_coeff(id, cut, CutSetup{}, {kModal, {{1.493e8, 2.315e8}, {4.257e9, 3.106e9}}});
@@ -119,6 +141,8 @@ void BM_Estimator(benchmark::State& state) {
   state.SetItemsProcessed(steps);
   state.SetLabel(estimator_name(id));
 }
-BENCHMARK(BM_Estimator)->DenseRange(0, 5)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Estimator)
+    ->DenseRange(0, static_cast<int>(kEstimatorCount) - 1)
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace

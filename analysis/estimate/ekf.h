@@ -21,6 +21,7 @@
 #include "analysis/estimate/cut_input.h"
 #include "analysis/estimate/tool_model.h"
 #include "analysis/kalman/extended_kalman_filter.h"
+#include "analysis/kalman/unscented_kalman_filter.h"
 
 namespace chatterlab {
 namespace estimate {
@@ -73,6 +74,9 @@ class ToolEkfModel {
 
 template <class Tool>
 using ToolEkf = kalman::ExtendedKalmanFilter<ToolEkfModel<Tool>>;
+// The unscented filter on the same model (kalman/unscented_kalman_filter.h).
+template <class Tool>
+using ToolUkf = kalman::UnscentedKalmanFilter<ToolEkfModel<Tool>>;
 
 // The states the parameter hold keeps: m, c, k or Kt, Kr (the last Tool::kParameters).
 template <class Tool>
@@ -90,6 +94,15 @@ ToolEkf<Tool> make_tool_ekf(const Tool& tool, const typename Tool::State& x0,
                             const typename Tool::StateMatrix& P0, const typename Tool::Noise& q,
                             const typename Tool::Measurement& r) {
   return ToolEkf<Tool>(ToolEkfModel<Tool>(tool, q, r), x0, P0);
+}
+
+// The unscented filter of the same model, noise and initial estimate as make_tool_ekf.
+template <class Tool>
+ToolUkf<Tool> make_tool_ukf(const Tool& tool, const typename Tool::State& x0,
+                            const typename Tool::StateMatrix& P0, const typename Tool::Noise& q,
+                            const typename Tool::Measurement& r,
+                            const kalman::UnscentedOptions& options) {
+  return ToolUkf<Tool>(ToolEkfModel<Tool>(tool, q, r), x0, P0, options);
 }
 
 }  // namespace estimate

@@ -27,6 +27,13 @@ void require_discretization(Discretization d) {
           "discretization", static_cast<int>(d), "unknown discretization");
 }
 
+void require_unscented(const kalman::UnscentedOptions& u) {
+  require(std::isfinite(u.alpha) && u.alpha > 0.0, "ukf.alpha", u.alpha, "must be finite and > 0");
+  require(std::isfinite(u.beta), "ukf.beta", u.beta, "must be finite");
+  // n + kappa > 0 for the smallest filter (5 states) and every larger one.
+  require(std::isfinite(u.kappa) && u.kappa > -5.0, "ukf.kappa", u.kappa, "must be > -5");
+}
+
 }  // namespace
 
 ModalEkfOptions modal_options_000() {
@@ -68,6 +75,15 @@ void validate(const ModalEkfOptions& o) {
   require_positive("p0_mass_kg2", o.p0_mass_kg2);
   require_positive("p0_damping_kg2_s2", o.p0_damping_kg2_s2);
   require_positive("p0_stiffness_N2_m2", o.p0_stiffness_N2_m2);
+  require_unscented(o.ukf);
+  // The widest modal UKF has 7 states: its points reach sqrt(alpha^2 (7 + kappa)) sd.
+  const double reach = std::sqrt(o.ukf.alpha * o.ukf.alpha * (7.0 + o.ukf.kappa));
+  require(std::isfinite(o.ukf_p0_relative_sd) && o.ukf_p0_relative_sd > 0.0 &&
+              o.ukf_p0_relative_sd * reach < 1.0,
+          "ukf_p0_relative_sd", o.ukf_p0_relative_sd,
+          ("must be > 0 and below 1 / sqrt(alpha^2 (7 + kappa)) = " + std::to_string(1.0 / reach) +
+           " (no sigma point with a negative mass)")
+              .c_str());
   require(o.history_points >= 2, "history_points", o.history_points, "must be >= 2");
 }
 
@@ -81,6 +97,7 @@ void validate(const CoeffEkfOptions& o) {
   require_positive("p0_velocity_m2_s2", o.p0_velocity_m2_s2);
   require_positive("p0_Kt", o.p0_Kt);
   require_positive("p0_Kr", o.p0_Kr);
+  require_unscented(o.ukf);
   require(o.gate == ToothGate::kEngaged || o.gate == ToothGate::kNone, "gate",
           static_cast<int>(o.gate), "unknown gate");
   require(o.history_points >= 2, "history_points", o.history_points, "must be >= 2");

@@ -11,6 +11,7 @@
 #pragma once
 
 #include "analysis/estimate/tool_model.h"
+#include "analysis/kalman/unscented_kalman_filter.h"
 
 namespace chatterlab {
 namespace estimate {
@@ -54,6 +55,13 @@ struct ModalEkfOptions {
   double p0_mass_kg2 = 1e-4;         // sd 0.01 kg
   double p0_damping_kg2_s2 = 1e2;    // sd 10 kg/s
   double p0_stiffness_N2_m2 = 1e11;  // sd 3.2e5 N/m
+  // Unscented variants (ukf-modal-*): the sigma points, and the standard deviation of each
+  // estimated parameter in P0 as a fraction of its start value, in (0, 1 / sqrt(n + lambda)):
+  // every sigma point then keeps a positive mass (000's eq. 6.3 variance of 1e8 kg^2 puts half
+  // of them at a mass of -1e4 kg, and the default sd of 0.01 kg at 0.0321 - 2.65 x 0.01 kg).
+  // The deflection and velocity entries are p0_deflection_m2 and p0_velocity_m2_s2.
+  kalman::UnscentedOptions ukf;
+  double ukf_p0_relative_sd = 0.2;
   // Points of the decimated estimate history (the initial estimate, every ceil(steps /
   // (history_points - 1))-th step and the last step), >= 2.
   int history_points = 2000;
@@ -73,7 +81,10 @@ struct CoeffEkfOptions {
   double p0_velocity_m2_s2 = 1.0;
   double p0_Kt = 1e19;  // sd 3.2e9 N/m^2
   double p0_Kr = 1e19;
-  // ekf-coeff-xy-per-tooth only.
+  // Unscented variants (ukf-coeff-*): the sigma points; P0 is the EKF's above (the model is
+  // linear in its state, so a coefficient sigma point's sign does not matter).
+  kalman::UnscentedOptions ukf;
+  // ekf-coeff-xy-per-tooth and ukf-coeff-xy-per-tooth only.
   ToothGate gate = ToothGate::kNone;
   int history_points = 2000;  // as ModalEkfOptions
 };

@@ -6,9 +6,11 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <type_traits>
 
 #include "analysis/common/require.h"
 #include "analysis/estimate/ekf.h"
+#include "analysis/kalman/unscented_kalman_filter.h"
 
 namespace chatterlab {
 namespace estimate {
@@ -99,6 +101,25 @@ static_assert(row_matches_model<ModalXyMkModel>(EstimatorId::kModalXyMk));
 static_assert(row_matches_model<ModalXyMcModel>(EstimatorId::kModalXyMc));
 static_assert(row_matches_model<CoeffXyModel>(EstimatorId::kCoeffXy));
 static_assert(row_matches_model<CoeffXyModel>(EstimatorId::kCoeffXyPerTooth));
+// An unscented row is its EKF twin's row but for the name, the source and the filter.
+constexpr bool twin_matches(const EstimatorInfo& e) {
+  const EstimatorInfo& t = estimator_info(e.structure);
+  bool keys = true;
+  for (std::size_t j = 0; j < e.keys.size(); ++j) {
+    keys =
+        keys && ((e.keys[j] == nullptr && t.keys[j] == nullptr) ||
+                 (e.keys[j] != nullptr && t.keys[j] != nullptr && same_text(e.keys[j], t.keys[j])));
+  }
+  return t.filter == FilterKind::kExtended && t.structure == t.id && e.states == t.states &&
+         e.modal == t.modal && e.measured_axes == t.measured_axes && e.per_tooth == t.per_tooth &&
+         e.key_count == t.key_count && keys;
+}
+static_assert([] {
+  for (const EstimatorInfo& e : kEstimators) {
+    if (!twin_matches(e)) return false;
+  }
+  return true;
+}());
 static_assert(same_text(estimator_info(EstimatorId::kCoeffXy).keys[0], "Kt_N_m2") &&
               same_text(estimator_info(EstimatorId::kCoeffXy).keys[1], "Kr_N_m2"));
 
@@ -110,13 +131,29 @@ typename Model::Measurement measurement(const MeasuredCut& cut, Eigen::Index k) 
   return z;
 }
 
+// The filter of variant `id` on Model: ToolEkf or ToolUkf.
+template <class Model, bool kUnscented>
+using FilterOf = std::conditional_t<kUnscented, ToolUkf<Model>, ToolEkf<Model>>;
+
+template <class Filter, class Model>
+Filter make_filter(const Model& model, const typename Model::State& x0,
+                   const typename Model::StateMatrix& P0, const typename Model::Noise& q,
+                   double r_m2, const kalman::UnscentedOptions& ukf) {
+  const typename Model::Measurement r = Model::Measurement::Constant(r_m2);
+  if constexpr (std::is_same_v<Filter, ToolUkf<Model>>) {
+    return make_tool_ukf(model, x0, P0, q, r, ukf);
+  } else {
+    return make_tool_ekf(model, x0, P0, q, r);
+  }
+}
+
 // Runs one filter over the cut; `input(chips)` gives the ForceInput of a sample.
-template <class Model, class InputFn>
+template <class Filter, class Model, class InputFn>
 EkfResult run_single(EstimatorId id, const MeasuredCut& cut, const CutChips& chips,
                      const Model& model, const typename Model::State& x0,
                      const typename Model::StateMatrix& P0, const typename Model::Noise& q,
-                     double r_m2, std::vector<std::string> columns, int history_points,
-                     InputFn input) {
+                     double r_m2, const kalman::UnscentedOptions& ukf,
+                     std::vector<std::string> columns, int history_points, InputFn input) {
   EkfResult res;
   res.id = id;
   res.estimator = estimator_name(id);
@@ -126,7 +163,7 @@ EkfResult run_single(EstimatorId id, const MeasuredCut& cut, const CutChips& chi
   const std::int64_t steps = chips.samples() - 1 - k0;
   const double T = cut.time_step_s;
   HistoryRecorder history(columns, steps, history_points);
-  ToolEkf<Model> filter = make_tool_ekf(model, x0, P0, q, Model::Measurement::Constant(r_m2));
+  Filter filter = make_filter<Filter>(model, x0, P0, q, r_m2, ukf);
   kalman::NisMonitor<Model::kMeasurements> nis;
   history.record(static_cast<double>(k0) * T, filter.state());
 
@@ -172,7 +209,7 @@ void validate_modal_inputs(const CutSetup& setup, const ModalEkfInputs& in) {
           in.start.k_N_m, "must be > 0");
 }
 
-template <class Model>
+template <class Model, bool kUnscented>
 EkfResult run_modal(EstimatorId id, const MeasuredCut& cut, const CutChips& chips,
                     const ModalEkfInputs& in, const ModalEkfOptions& o) {
   const Model model(cut.time_step_s, o.discretization, in.start);
@@ -200,13 +237,20 @@ EkfResult run_modal(EstimatorId id, const MeasuredCut& cut, const CutChips& chip
     P0(Model::kStiffness, Model::kStiffness) = o.p0_stiffness_N2_m2;
     q[Model::kStiffness + w0] = o.q_stiffness;
   }
+  if constexpr (kUnscented) {
+    // Physically scaled: sd = ukf_p0_relative_sd x the start value (ModalEkfOptions).
+    for (int i = Model::kFirstParameter; i < Model::kStates; ++i) {
+      P0(i, i) = std::pow(o.ukf_p0_relative_sd * x0[i], 2);
+    }
+  }
   const std::vector<ToothCoefficients>& coefficients = in.coefficients;
-  return run_single(id, cut, chips, model, x0, P0, q, o.r_m2, state_columns(id, 1),
-                    o.history_points, [&coefficients](const StepChips& c) {
-                      ForceInput u;
-                      u.known_N = cutting_force_N(c, coefficients);
-                      return u;
-                    });
+  return run_single<FilterOf<Model, kUnscented>>(id, cut, chips, model, x0, P0, q, o.r_m2, o.ukf,
+                                                 state_columns(id, 1), o.history_points,
+                                                 [&coefficients](const StepChips& c) {
+                                                   ForceInput u;
+                                                   u.known_N = cutting_force_N(c, coefficients);
+                                                   return u;
+                                                 });
 }
 
 void validate_coeff_inputs(EstimatorId id, const CutSetup& setup, const CoeffEkfInputs& in) {
@@ -215,14 +259,14 @@ void validate_coeff_inputs(EstimatorId id, const CutSetup& setup, const CoeffEkf
   require(std::isfinite(m.c_kg_s) && m.c_kg_s >= 0.0, "inputs.modal.c_kg_s", m.c_kg_s,
           "must be >= 0");
   require(std::isfinite(m.k_N_m) && m.k_N_m > 0.0, "inputs.modal.k_N_m", m.k_N_m, "must be > 0");
-  if (id == EstimatorId::kCoeffXy) {
+  if (structure_of(id) == EstimatorId::kCoeffXy) {
     require(in.start.size() == 1, "inputs.start.size()", in.start.size(),
-            "must be 1 for ekf-coeff-xy (one Kt, Kr for every tooth)");
+            std::string("must be 1 for ") + estimator_name(id) + " (one Kt, Kr for every tooth)");
   } else {
     require(
         in.start.size() == static_cast<std::size_t>(setup.teeth), "inputs.start.size()",
         in.start.size(),
-        "must equal setup.teeth = " + std::to_string(setup.teeth) + " for ekf-coeff-xy-per-tooth");
+        "must equal setup.teeth = " + std::to_string(setup.teeth) + " for " + estimator_name(id));
   }
   require_coefficients(in.start, "inputs.start");
 }
@@ -240,29 +284,31 @@ CoeffXyModel::Noise coeff_q(const CoeffEkfOptions& o) {
   return q;
 }
 
-EkfResult run_coeff_shared(const MeasuredCut& cut, const CutChips& chips, const CoeffEkfInputs& in,
-                           const CoeffEkfOptions& o) {
+template <bool kUnscented>
+EkfResult run_coeff_shared(EstimatorId id, const MeasuredCut& cut, const CutChips& chips,
+                           const CoeffEkfInputs& in, const CoeffEkfOptions& o) {
   const CoeffXyModel model(cut.time_step_s, o.discretization, in.modal);
   CoeffXyModel::State x0 = CoeffXyModel::State::Zero();
   x0[CoeffXyModel::kKt] = in.start[0].Kt_N_m2;
   x0[CoeffXyModel::kKr] = in.start[0].Kr_N_m2;
-  return run_single(EstimatorId::kCoeffXy, cut, chips, model, x0, coeff_p0(o), coeff_q(o), o.r_m2,
-                    state_columns(EstimatorId::kCoeffXy, 1), o.history_points,
-                    [](const StepChips& c) {
-                      ForceInput u;
-                      for (int p = 0; p < c.teeth; ++p) {
-                        u.regressor_m2 += tooth_regressor_m2(c.tooth[static_cast<std::size_t>(p)]);
-                      }
-                      return u;
-                    });
+  return run_single<FilterOf<CoeffXyModel, kUnscented>>(
+      id, cut, chips, model, x0, coeff_p0(o), coeff_q(o), o.r_m2, o.ukf, state_columns(id, 1),
+      o.history_points, [](const StepChips& c) {
+        ForceInput u;
+        for (int p = 0; p < c.teeth; ++p) {
+          u.regressor_m2 += tooth_regressor_m2(c.tooth[static_cast<std::size_t>(p)]);
+        }
+        return u;
+      });
 }
 
-EkfResult run_coeff_per_tooth(const MeasuredCut& cut, const CutChips& chips,
+template <bool kUnscented>
+EkfResult run_coeff_per_tooth(EstimatorId id, const MeasuredCut& cut, const CutChips& chips,
                               const CoeffEkfInputs& in, const CoeffEkfOptions& o) {
-  using Filter = ToolEkf<CoeffXyModel>;
+  using Filter = FilterOf<CoeffXyModel, kUnscented>;
   constexpr int kKt = CoeffXyModel::kKt;
   EkfResult res;
-  res.id = EstimatorId::kCoeffXyPerTooth;
+  res.id = id;
   res.estimator = estimator_name(res.id);
   res.time_step_s = cut.time_step_s;
   const int n = static_cast<int>(in.start.size());
@@ -277,16 +323,17 @@ EkfResult run_coeff_per_tooth(const MeasuredCut& cut, const CutChips& chips,
     CoeffXyModel::State x0 = CoeffXyModel::State::Zero();
     x0[kKt] = s.Kt_N_m2;
     x0[kKt + 1] = s.Kr_N_m2;
-    filters.push_back(make_tool_ekf(model, x0, P0, q, CoeffXyModel::Measurement::Constant(o.r_m2)));
+    filters.push_back(make_filter<Filter>(model, x0, P0, q, o.r_m2, o.ukf));
   }
   const kalman::StateMask<CoeffXyModel::kStates> hold = parameter_states<CoeffXyModel>();
   const std::vector<std::string> columns = state_columns(res.id, n);
   const Eigen::Index cols = static_cast<Eigen::Index>(columns.size());
   const auto combined = [&filters, n, cols]() {
     Eigen::VectorXd row(cols);
-    row.head<4>() = filters[0].state().head<4>();
+    row.head<4>() = filters[0].state().template head<4>();
     for (int p = 0; p < n; ++p) {
-      row.segment<2>(4 + 2 * p) = filters[static_cast<std::size_t>(p)].state().segment<2>(kKt);
+      row.segment<2>(4 + 2 * p) =
+          filters[static_cast<std::size_t>(p)].state().template segment<2>(kKt);
     }
     return row;
   };
@@ -308,7 +355,7 @@ EkfResult run_coeff_per_tooth(const MeasuredCut& cut, const CutChips& chips,
     for (int p = 0; p < n; ++p) {
       const std::size_t i = static_cast<std::size_t>(p);
       regressor[i] = tooth_regressor_m2(c.tooth[i]);
-      force[i].noalias() = regressor[i] * filters[i].state().segment<2>(kKt);
+      force[i].noalias() = regressor[i] * filters[i].state().template segment<2>(kKt);
       total += force[i];
     }
     for (int p = 0; p < n; ++p) {
@@ -340,10 +387,11 @@ EkfResult run_coeff_per_tooth(const MeasuredCut& cut, const CutChips& chips,
   res.history = history.take();
   res.final_state = combined();
   res.covariance_diagonal.resize(cols);
-  res.covariance_diagonal.head<4>() = filters[0].covariance().diagonal().head<4>();
+  res.covariance_diagonal.head<4>() = filters[0].covariance().diagonal().template head<4>();
   for (int p = 0; p < n; ++p) {
     const Filter& f = filters[static_cast<std::size_t>(p)];
-    res.covariance_diagonal.segment<2>(4 + 2 * p) = f.covariance().diagonal().segment<2>(kKt);
+    res.covariance_diagonal.segment<2>(4 + 2 * p) =
+        f.covariance().diagonal().template segment<2>(kKt);
     for (int j = 0; j < 2; ++j) {
       res.estimates.push_back({columns[static_cast<std::size_t>(4 + 2 * p + j)], f.state()[kKt + j],
                                f.covariance()(kKt + j, kKt + j)});
@@ -410,15 +458,20 @@ EkfResult ekf_modal(EstimatorId id, const MeasuredCut& cut, const CutSetup& setu
   validate(options);
   const CutChips chips(cut, setup);
   validate_modal_inputs(setup, inputs);
-  switch (id) {
+  const bool u = is_unscented(id);
+  switch (structure_of(id)) {
     case EstimatorId::kModalX:
-      return run_modal<ModalXModel>(id, cut, chips, inputs, options);
+      return u ? run_modal<ModalXModel, true>(id, cut, chips, inputs, options)
+               : run_modal<ModalXModel, false>(id, cut, chips, inputs, options);
     case EstimatorId::kModalXy:
-      return run_modal<ModalXyModel>(id, cut, chips, inputs, options);
+      return u ? run_modal<ModalXyModel, true>(id, cut, chips, inputs, options)
+               : run_modal<ModalXyModel, false>(id, cut, chips, inputs, options);
     case EstimatorId::kModalXyMk:
-      return run_modal<ModalXyMkModel>(id, cut, chips, inputs, options);
+      return u ? run_modal<ModalXyMkModel, true>(id, cut, chips, inputs, options)
+               : run_modal<ModalXyMkModel, false>(id, cut, chips, inputs, options);
     default:
-      return run_modal<ModalXyMcModel>(id, cut, chips, inputs, options);
+      return u ? run_modal<ModalXyMcModel, true>(id, cut, chips, inputs, options)
+               : run_modal<ModalXyMcModel, false>(id, cut, chips, inputs, options);
   }
 }
 
@@ -428,8 +481,13 @@ EkfResult ekf_coeff(EstimatorId id, const MeasuredCut& cut, const CutSetup& setu
   validate(options);
   const CutChips chips(cut, setup);
   validate_coeff_inputs(id, setup, inputs);
-  if (id == EstimatorId::kCoeffXy) return run_coeff_shared(cut, chips, inputs, options);
-  return run_coeff_per_tooth(cut, chips, inputs, options);
+  const bool u = is_unscented(id);
+  if (structure_of(id) == EstimatorId::kCoeffXy) {
+    return u ? run_coeff_shared<true>(id, cut, chips, inputs, options)
+             : run_coeff_shared<false>(id, cut, chips, inputs, options);
+  }
+  return u ? run_coeff_per_tooth<true>(id, cut, chips, inputs, options)
+           : run_coeff_per_tooth<false>(id, cut, chips, inputs, options);
 }
 
 }  // namespace estimate

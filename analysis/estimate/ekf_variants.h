@@ -1,4 +1,5 @@
-// The six EKF estimators of EXPERIMENT_FORMAT.md (000 ch. 4 and 6) run over a measured cut.
+// The six EKF estimators of EXPERIMENT_FORMAT.md (000 ch. 4 and 6) and their unscented twins
+// run over a measured cut.
 //
 // Timing (000 eqs 4.5-4.9): the filter starts at sample k0 = CutChips::first_step() (the first
 // sample with a delayed sample x(t - tau) in the record) with the initial estimate as x^+_k0
@@ -21,6 +22,14 @@
 //                           sample (a synchronous, order-free coupling). ToothGate (options)
 //                           chooses whether filter p corrects Kt_p, Kr_p at every step (kNone,
 //                           default) or only while tooth p cuts (kEngaged).
+//
+//   ukf-modal-x, ukf-modal-xy, ukf-modal-xy-mk, ukf-modal-xy-mc, ukf-coeff-xy,
+//   ukf-coeff-xy-per-tooth: the same models, inputs, noise and timing stepped by the
+//                           additive-noise unscented filter (unscented_kalman_filter.h). The
+//                           coefficient models are linear in their state (the chip is an input),
+//                           so there the UKF equals the EKF to rounding. The modal UKFs start
+//                           from a physically scaled P0 of the parameters (ModalEkfOptions::
+//                           ukf_p0_relative_sd), so that no sigma point has a negative mass.
 #pragma once
 
 #include <Eigen/Core>
@@ -46,7 +55,17 @@ enum class EstimatorId {
   kModalXyMc,
   kCoeffXy,
   kCoeffXyPerTooth,
+  kUkfModalX,
+  kUkfModalXy,
+  kUkfModalXyMk,
+  kUkfModalXyMc,
+  kUkfCoeffXy,
+  kUkfCoeffXyPerTooth,
 };
+
+// The filter that steps a variant's model: the EKF of 000 eqs 4.5-4.9 or the unscented filter
+// of analysis/kalman/unscented_kalman_filter.h on the same model, noise and data.
+enum class FilterKind { kExtended, kUnscented };
 
 // One row per variant: everything else about the variants (names, state counts, lists of all
 // variants, estimate keys) derives from this table.
@@ -60,17 +79,27 @@ struct EstimatorInfo {
   int key_count;      // estimate keys (per tooth for per_tooth)
   std::array<const char*, 3> keys;  // in EXPERIMENT_FORMAT.md order; per tooth: "Kt", "Kr" stems
   const char* source;               // 000 equations
+  FilterKind filter;
+  // The EKF variant with the same model (its own id for an EKF): what the variant estimates,
+  // from which inputs, is that row's; only the filter differs.
+  EstimatorId structure;
 };
 
 // clang-format off
-inline constexpr std::array<EstimatorInfo, 6> kEstimators{{
-//  id, name, states, modal, measured_axes, per_tooth, key_count, keys, source
-    {EstimatorId::kModalX,          "ekf-modal-x",            ModalXModel::kStates,    true,  1, false, 3, {"m_kg", "c_kg_s", "k_N_m"},    "000 eqs 4.3-4.14"},
-    {EstimatorId::kModalXy,         "ekf-modal-xy",           ModalXyModel::kStates,   true,  2, false, 3, {"m_kg", "c_kg_s", "k_N_m"},    "000 eqs 4.15-4.22"},
-    {EstimatorId::kModalXyMk,       "ekf-modal-xy-mk",        ModalXyMkModel::kStates, true,  2, false, 2, {"m_kg", "k_N_m", nullptr},     "000 sec. 6.1 (c held)"},
-    {EstimatorId::kModalXyMc,       "ekf-modal-xy-mc",        ModalXyMcModel::kStates, true,  2, false, 2, {"m_kg", "c_kg_s", nullptr},    "000 sec. 6.1 (k held)"},
-    {EstimatorId::kCoeffXy,         "ekf-coeff-xy",           CoeffXyModel::kStates,   false, 2, false, 2, {"Kt_N_m2", "Kr_N_m2", nullptr}, "000 eqs 4.23-4.32"},
-    {EstimatorId::kCoeffXyPerTooth, "ekf-coeff-xy-per-tooth", CoeffXyModel::kStates,   false, 2, true,  2, {"Kt", "Kr", nullptr},          "000 sec. 4.4"},
+inline constexpr std::array<EstimatorInfo, 12> kEstimators{{
+//  id, name, states, modal, measured_axes, per_tooth, key_count, keys, source, filter, structure
+    {EstimatorId::kModalX,          "ekf-modal-x",            ModalXModel::kStates,    true,  1, false, 3, {"m_kg", "c_kg_s", "k_N_m"},    "000 eqs 4.3-4.14", FilterKind::kExtended, EstimatorId::kModalX},
+    {EstimatorId::kModalXy,         "ekf-modal-xy",           ModalXyModel::kStates,   true,  2, false, 3, {"m_kg", "c_kg_s", "k_N_m"},    "000 eqs 4.15-4.22", FilterKind::kExtended, EstimatorId::kModalXy},
+    {EstimatorId::kModalXyMk,       "ekf-modal-xy-mk",        ModalXyMkModel::kStates, true,  2, false, 2, {"m_kg", "k_N_m", nullptr},     "000 sec. 6.1 (c held)", FilterKind::kExtended, EstimatorId::kModalXyMk},
+    {EstimatorId::kModalXyMc,       "ekf-modal-xy-mc",        ModalXyMcModel::kStates, true,  2, false, 2, {"m_kg", "c_kg_s", nullptr},    "000 sec. 6.1 (k held)", FilterKind::kExtended, EstimatorId::kModalXyMc},
+    {EstimatorId::kCoeffXy,         "ekf-coeff-xy",           CoeffXyModel::kStates,   false, 2, false, 2, {"Kt_N_m2", "Kr_N_m2", nullptr}, "000 eqs 4.23-4.32", FilterKind::kExtended, EstimatorId::kCoeffXy},
+    {EstimatorId::kCoeffXyPerTooth, "ekf-coeff-xy-per-tooth", CoeffXyModel::kStates,   false, 2, true,  2, {"Kt", "Kr", nullptr},          "000 sec. 4.4", FilterKind::kExtended, EstimatorId::kCoeffXyPerTooth},
+    {EstimatorId::kUkfModalX,          "ukf-modal-x",            ModalXModel::kStates,    true,  1, false, 3, {"m_kg", "c_kg_s", "k_N_m"},    "000 eqs 4.3-4.14 model, unscented filter", FilterKind::kUnscented, EstimatorId::kModalX},
+    {EstimatorId::kUkfModalXy,         "ukf-modal-xy",           ModalXyModel::kStates,   true,  2, false, 3, {"m_kg", "c_kg_s", "k_N_m"},    "000 eqs 4.15-4.22 model, unscented filter", FilterKind::kUnscented, EstimatorId::kModalXy},
+    {EstimatorId::kUkfModalXyMk,       "ukf-modal-xy-mk",        ModalXyMkModel::kStates, true,  2, false, 2, {"m_kg", "k_N_m", nullptr},     "000 sec. 6.1 model (c held), unscented filter", FilterKind::kUnscented, EstimatorId::kModalXyMk},
+    {EstimatorId::kUkfModalXyMc,       "ukf-modal-xy-mc",        ModalXyMcModel::kStates, true,  2, false, 2, {"m_kg", "c_kg_s", nullptr},    "000 sec. 6.1 model (k held), unscented filter", FilterKind::kUnscented, EstimatorId::kModalXyMc},
+    {EstimatorId::kUkfCoeffXy,         "ukf-coeff-xy",           CoeffXyModel::kStates,   false, 2, false, 2, {"Kt_N_m2", "Kr_N_m2", nullptr}, "000 eqs 4.23-4.32 model, unscented filter", FilterKind::kUnscented, EstimatorId::kCoeffXy},
+    {EstimatorId::kUkfCoeffXyPerTooth, "ukf-coeff-xy-per-tooth", CoeffXyModel::kStates,   false, 2, true,  2, {"Kt", "Kr", nullptr},          "000 sec. 4.4 model, unscented filter", FilterKind::kUnscented, EstimatorId::kCoeffXyPerTooth},
 }};
 // clang-format on
 inline constexpr std::size_t kEstimatorCount = kEstimators.size();
@@ -91,9 +120,14 @@ constexpr std::array<EstimatorId, kEstimatorCount> all_estimators() {
 constexpr const char* estimator_name(EstimatorId id) { return estimator_info(id).name; }
 // Inverse of estimator_name; throws InputError for an unknown name (listing the known ones).
 EstimatorId estimator_from_name(const std::string& name);
-// Number of states of one filter of the variant (5, 7, 6, 6, 6, 6).
+// Number of states of one filter of the variant (5, 7, 6, 6, 6, 6, and the same for the UKFs).
 constexpr int estimator_states(EstimatorId id) { return estimator_info(id).states; }
 constexpr bool is_modal(EstimatorId id) { return estimator_info(id).modal; }
+constexpr bool is_unscented(EstimatorId id) {
+  return estimator_info(id).filter == FilterKind::kUnscented;
+}
+// The EKF variant with the same model and inputs (the id itself for an EKF).
+constexpr EstimatorId structure_of(EstimatorId id) { return estimator_info(id).structure; }
 // The variant's estimate keys in EkfResult::estimates order: "m_kg", "c_kg_s", "k_N_m" (modal
 // variants without the held one), "Kt_N_m2", "Kr_N_m2", or per tooth "Kt1_N_m2", "Kr1_N_m2",
 // "Kt2_N_m2", ... for `teeth` teeth (teeth >= 1; ignored by the other variants).

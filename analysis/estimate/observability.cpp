@@ -90,7 +90,7 @@ ObservabilityResult observability(EstimatorId id, const Eigen::VectorXd& state,
           "observability: form", static_cast<int>(options.form), "unknown form");
   require(options.relative_tolerance > 0.0 && options.relative_tolerance < 1.0,
           "observability: relative_tolerance", options.relative_tolerance, "must be in (0, 1)");
-  switch (id) {
+  switch (structure_of(id)) {  // the UKFs share their EKF twin's model
     case EstimatorId::kModalX:
       return rank_of<ModalXModel>(state, input, held, time_step_s, options);
     case EstimatorId::kModalXy:

@@ -96,8 +96,8 @@ RepeatabilityResult repeat_modal(EstimatorId id, const MeasuredCut& cut, const C
     ModalEkfInputs in = reference;
     // Draw order = estimate-key order (m, c, k).
     in.start.m_kg = draw(reference.start.m_kg);
-    if (id != EstimatorId::kModalXyMk) in.start.c_kg_s = draw(reference.start.c_kg_s);
-    if (id != EstimatorId::kModalXyMc) in.start.k_N_m = draw(reference.start.k_N_m);
+    if (structure_of(id) != EstimatorId::kModalXyMk) in.start.c_kg_s = draw(reference.start.c_kg_s);
+    if (structure_of(id) != EstimatorId::kModalXyMc) in.start.k_N_m = draw(reference.start.k_N_m);
     return ekf_modal(id, cut, setup, in, options);
   });
 }

@@ -1,7 +1,7 @@
 // Every EKF variant (ekf_variants.h) run the one way the estimator tests that loop over
 // all_estimators() run it: on a short synthetic cut (0.01 s after 5 settling revolutions) with
 // 000 sec. 6.1's start values (modal variants: table 5.2's coefficients known; coefficient
-// variants: table 5.2's m, c, k known, ekf-coeff-xy from Kt, Kr = 2e9, 1e9).
+// variants: table 5.2's m, c, k known, ekf-coeff-xy and ukf-coeff-xy from Kt, Kr = 2e9, 1e9).
 #pragma once
 
 #include <vector>
@@ -32,7 +32,7 @@ inline estimate::EkfResult run_estimator(estimate::EstimatorId id, const estimat
   }
   return estimate::ekf_coeff(
       id, cut, setup,
-      {table52_modal(), id == EstimatorId::kCoeffXy
+      {table52_modal(), estimate::structure_of(id) == EstimatorId::kCoeffXy
                             ? std::vector<estimate::ToothCoefficients>{{2e9, 1e9}}
                             : dissertation_start_coefficients()});
 }

@@ -241,28 +241,32 @@ CutEstimation run_cut_estimation(const TestSpec& t, const CutStepInputs& in,
     parallel_for(ids.size(), jobs, [&](std::size_t i) {
       VariantOutcome& v = out.variants[i];
       const EstimatorId id = ids[i];
+      // 000 sec. 6.2's repeatability study is of the EKFs; the unscented twins are not repeated
+      // (docs/estimators.md, "Unscented variants": it would triple the estimation's time).
+      const bool repeat = o.repeat.runs > 0 && !estimate::is_unscented(id);
       try {
         if (estimate::is_modal(id)) {
           estimate::ModalParameters start = hammer;
-          if (id == EstimatorId::kModalXyMk) start.c_kg_s = out.modal.c_kg_s;
-          if (id == EstimatorId::kModalXyMc) start.k_N_m = out.modal.k_N_m;
+          const EstimatorId structure = estimate::structure_of(id);
+          if (structure == EstimatorId::kModalXyMk) start.c_kg_s = out.modal.c_kg_s;
+          if (structure == EstimatorId::kModalXyMc) start.k_N_m = out.modal.k_N_m;
           v.known = "coefficients identified (" + coefficients_text(out.coefficients) + ")";
           v.start = "hammer test (" + modal_text(start) + ")";
           v.run = estimate::ekf_modal(id, cut, setup, {out.coefficients, start}, o.modal);
-          if (v.run.summary.ok() && o.repeat.runs > 0) {
+          if (v.run.summary.ok() && repeat) {
             estimate::ModalParameters ref = out.modal;
             v.repeat =
                 estimate::repeat_modal(id, cut, setup, {out.coefficients, ref}, o.modal, o.repeat);
           }
         } else {
-          const bool shared = id == EstimatorId::kCoeffXy;
+          const bool shared = estimate::structure_of(id) == EstimatorId::kCoeffXy;
           const std::vector<estimate::ToothCoefficients> start =
               shared ? std::vector<estimate::ToothCoefficients>{dyno} : dyno_teeth;
           v.known = "modal identified (" + modal_text(out.modal) + ")";
           v.start =
               "dynamometer (" + coefficients_text({dyno}) + (shared ? "" : " every tooth") + ")";
           v.run = estimate::ekf_coeff(id, cut, setup, {out.modal, start}, o.coeff);
-          if (v.run.summary.ok() && o.repeat.runs > 0) {
+          if (v.run.summary.ok() && repeat) {
             // Reference: the identified per-tooth values; the one-pair filter has none, so its
             // own final estimate.
             const std::vector<estimate::ToothCoefficients> ref =

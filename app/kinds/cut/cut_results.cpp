@@ -68,6 +68,7 @@ json variant_json(const VariantOutcome& v) {
     for (const auto& n : r.nis_per_filter) per.push_back(nis_json(n));
     j["nis_per_filter"] = per;
   }
+  j["filter"] = estimate::is_unscented(r.id) ? "unscented" : "extended";
   j["known"] = v.known;
   j["start"] = v.start;
   if (v.observability_status.ok()) {

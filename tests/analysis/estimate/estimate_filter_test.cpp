@@ -1,11 +1,13 @@
-// Properties of the EKF step shared by every variant: the covariance stays symmetric positive
-// semi-definite along a run, a step allocates nothing, a measurement pulls the estimate towards
-// it, the parameter hold leaves the parameters alone.
+// Properties of the filter step shared by every variant, extended and unscented: the covariance
+// stays symmetric positive semi-definite along a run, a step allocates nothing, a measurement
+// pulls the estimate towards it, the parameter hold leaves the parameters alone.
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <type_traits>
 
 #include "analysis/estimate/ekf.h"
 #include "analysis/estimate/ekf_options.h"
@@ -28,8 +30,17 @@ const MeasuredCut& short_cut() {
   return cut;
 }
 
-template <class Model>
-ToolEkf<Model> make_filter(const Model& model) {
+// A model and the filter that steps it.
+template <class ModelT, bool kUnscented>
+struct Variant {
+  using Model = ModelT;
+  using Filter = std::conditional_t<kUnscented, ToolUkf<Model>, ToolEkf<Model>>;
+  static constexpr bool unscented = kUnscented;
+};
+
+template <class V>
+typename V::Filter make_filter(const typename V::Model& model) {
+  using Model = typename V::Model;
   const ModalEkfOptions mo;
   const CoeffEkfOptions co;
   typename Model::State x0 = Model::State::Zero();
@@ -65,7 +76,15 @@ ToolEkf<Model> make_filter(const Model& model) {
     q[Model::kKt + w0] = co.q_Kt;
     q[Model::kKr + w0] = co.q_Kr;
   }
-  return make_tool_ekf(model, x0, P0, q, Model::Measurement::Constant(mo.r_m2));
+  if constexpr (V::unscented) {
+    // The modal UKFs' physically scaled P0 (ekf_options.h).
+    for (int i = Model::kFirstParameter; i < Model::kStates && Model::kKt < 0; ++i) {
+      P0(i, i) = std::pow(mo.ukf_p0_relative_sd * x0[i], 2);
+    }
+    return make_tool_ukf(model, x0, P0, q, Model::Measurement::Constant(mo.r_m2), mo.ukf);
+  } else {
+    return make_tool_ekf(model, x0, P0, q, Model::Measurement::Constant(mo.r_m2));
+  }
 }
 
 template <class Model>
@@ -89,11 +108,14 @@ typename Model::Measurement measured(const MeasuredCut& cut, Eigen::Index k) {
   return z;
 }
 
-template <class Model>
+template <class V>
 class FilterProperties : public ::testing::Test {};
 
-using Models =
-    ::testing::Types<ModalXModel, ModalXyModel, ModalXyMkModel, ModalXyMcModel, CoeffXyModel>;
+using Models = ::testing::Types<Variant<ModalXModel, false>, Variant<ModalXyModel, false>,
+                                Variant<ModalXyMkModel, false>, Variant<ModalXyMcModel, false>,
+                                Variant<CoeffXyModel, false>, Variant<ModalXModel, true>,
+                                Variant<ModalXyModel, true>, Variant<ModalXyMkModel, true>,
+                                Variant<ModalXyMcModel, true>, Variant<CoeffXyModel, true>>;
 TYPED_TEST_SUITE(FilterProperties, Models);
 
 TYPED_TEST(FilterProperties, CovarianceStaysSymmetricPositiveSemidefinite) {
@@ -101,11 +123,11 @@ TYPED_TEST(FilterProperties, CovarianceStaysSymmetricPositiveSemidefinite) {
   // correlation matrix), where entries are <= 1 whatever the states' units: eigenvalues
   // >= -1e-9 (rounding of a 7 x 7 eigen-solve is ~1e-15; 1e-9 still flags any real loss of
   // definiteness).
-  using Model = TypeParam;
+  using Model = typename TypeParam::Model;
   const MeasuredCut& cut = short_cut();
   const CutChips chips(cut, CutSetup{});
   const Model model(cut.time_step_s, Discretization::kSymplecticEuler, testing::table52_modal());
-  ToolEkf<Model> f = make_filter(model);
+  auto f = make_filter<TypeParam>(model);
   double smallest = 1.0;
   for (Eigen::Index k = chips.first_step(); k + 1 < chips.samples(); ++k) {
     f.predict(input_for<Model>(chips.chips(k)));
@@ -129,11 +151,11 @@ TYPED_TEST(FilterProperties, CovarianceStaysSymmetricPositiveSemidefinite) {
 
 TYPED_TEST(FilterProperties, AStepAllocatesNothing) {
   if (!kCountingMalloc) GTEST_SKIP() << "malloc is not counted under AddressSanitizer";
-  using Model = TypeParam;
+  using Model = typename TypeParam::Model;
   const MeasuredCut& cut = short_cut();
   const CutChips chips(cut, CutSetup{});
   const Model model(cut.time_step_s, Discretization::kSymplecticEuler, testing::table52_modal());
-  ToolEkf<Model> f = make_filter(model);
+  auto f = make_filter<TypeParam>(model);
   const std::vector<ToothCoefficients> K = testing::table52_coefficients();
   chatterlab::testing::g_allocations = 0;
   chatterlab::testing::g_counting = true;
@@ -159,11 +181,11 @@ TYPED_TEST(FilterProperties, AStepAllocatesNothing) {
 TYPED_TEST(FilterProperties, ParameterHoldLeavesParametersAndTheirCovariance) {
   // The Schmidt update (update_consider with the parameter states) corrects deflections only; P's
   // parameter block is what the prediction left.
-  using Model = TypeParam;
+  using Model = typename TypeParam::Model;
   const MeasuredCut& cut = short_cut();
   const CutChips chips(cut, CutSetup{});
   const Model model(cut.time_step_s, Discretization::kSymplecticEuler, testing::table52_modal());
-  ToolEkf<Model> f = make_filter(model);
+  auto f = make_filter<TypeParam>(model);
   constexpr int P = Model::kParameters;
   for (Eigen::Index k = chips.first_step(); k < chips.first_step() + 3000; ++k) {
     f.predict(input_for<Model>(chips.chips(k)));

@@ -48,7 +48,8 @@ TEST(EstimatorNames, RoundTripAndSizes) {
   EXPECT_STREQ(estimator_name(EstimatorId::kCoeffXyPerTooth), "ekf-coeff-xy-per-tooth");
   expect_error([] { estimator_from_name("ukf-modal"); },
                "estimator = ukf-modal: unknown (ekf-modal-x, ekf-modal-xy, ekf-modal-xy-mk, "
-               "ekf-modal-xy-mc, ekf-coeff-xy, ekf-coeff-xy-per-tooth)");
+               "ekf-modal-xy-mc, ekf-coeff-xy, ekf-coeff-xy-per-tooth, ukf-modal-x, ukf-modal-xy, "
+               "ukf-modal-xy-mk, ukf-modal-xy-mc, ukf-coeff-xy, ukf-coeff-xy-per-tooth)");
 }
 
 TEST(EkfOptions, ValidationNamesFieldValueAndRule) {

@@ -16,7 +16,7 @@ namespace {
 TEST(EstimatorTable, DerivedFunctionsFollowTheTable) {
   // all_estimators() lists each id once, in enum order; names are unique and round-trip.
   const auto ids = all_estimators();
-  ASSERT_EQ(ids.size(), 6u);
+  ASSERT_EQ(ids.size(), 12u);
   std::set<std::string> names;
   for (std::size_t i = 0; i < ids.size(); ++i) {
     EXPECT_EQ(static_cast<std::size_t>(ids[i]), i);
@@ -26,6 +26,15 @@ TEST(EstimatorTable, DerivedFunctionsFollowTheTable) {
     EXPECT_EQ(estimator_from_name(e.name), ids[i]);
     EXPECT_EQ(estimator_states(ids[i]), e.states);
     EXPECT_EQ(is_modal(ids[i]), e.modal);
+    // The first six are the EKFs of EXPERIMENT_FORMAT.md; the next six their unscented twins,
+    // named "ukf-" + the twin's name without "ekf-", with the same states and keys.
+    const EstimatorId twin = structure_of(ids[i]);
+    EXPECT_EQ(is_unscented(ids[i]), i >= 6);
+    EXPECT_EQ(static_cast<std::size_t>(twin), i % 6);
+    EXPECT_EQ(std::string(e.name),
+              (i >= 6 ? "ukf-" : "ekf-") + std::string(estimator_name(twin)).substr(4));
+    EXPECT_EQ(estimate_keys(ids[i], 2), estimate_keys(twin, 2));
+    EXPECT_EQ(estimator_states(ids[i]), estimator_states(twin));
     names.insert(e.name);
   }
   EXPECT_EQ(names.size(), ids.size());

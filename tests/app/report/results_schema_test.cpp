@@ -169,7 +169,7 @@ TEST(ResultsSchema, ReportOfASynthCampaignValidatesAndBrokenCopiesFail) {
   EXPECT_TRUE(r["groups"]["dyno-slot"].contains("Ktc_N_m2"));
   EXPECT_EQ(r["identified_from"], "cuts/constant");
   EXPECT_FALSE(r["truth_comparison"].empty());
-  EXPECT_EQ(tests["cuts/constant"]["estimators"].size(), 6u);
+  EXPECT_EQ(tests["cuts/constant"]["estimators"].size(), 12u);
   EXPECT_TRUE(tests["cuts/incline"]["bifurcation_depth_mm"].is_number());
   EXPECT_EQ(tests["cuts/incline"]["figures"]["bifurcation"]["csv"],
             "figures/cut-cuts-incline-bifurcation.csv");
@@ -208,6 +208,14 @@ TEST(ResultsSchema, ReportOfASynthCampaignValidatesAndBrokenCopiesFail) {
        [](json& j) {
          j["tests"]["cuts/constant"]["estimators"]["ekf-modal-x"]["estimates"].erase("k_N_m");
        }},
+      {"unscented estimate key unknown",
+       "at /tests/cuts~1constant/estimators/ukf-coeff-xy-per-tooth/estimates:",
+       [](json& j) {
+         j["tests"]["cuts/constant"]["estimators"]["ukf-coeff-xy-per-tooth"]["estimates"]["m_kg"] =
+             1.0;
+       }},
+      {"filter outside its enum", "at /tests/cuts~1constant/estimators/ukf-modal-x/filter:",
+       [](json& j) { j["tests"]["cuts/constant"]["estimators"]["ukf-modal-x"]["filter"] = "ukf"; }},
       {"number as text", "at /tests/tap~1x/modes/0/fn_hz:",
        [](json& j) { j["tests"]["tap/x"]["modes"][0]["fn_hz"] = "898.3"; }},
       {"depth as text", "at /tests/cuts~1incline/bifurcation_depth_mm:",
