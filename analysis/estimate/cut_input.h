@@ -75,9 +75,16 @@ struct StepChips {
 // Force input of one filter step: F = known_N + regressor [Kt; Kr]. Modal filters: the whole
 // force with known coefficients in known_N. Coefficient filters: the estimated teeth in
 // regressor (000 eqs 4.29-4.32 times m / T) and the rest in known_N.
+//
+// A filter whose chips come from its own estimates (ekf-coeff-xy-feedback) makes the force depend
+// on the current deflection: F = known_N + regressor [Kt; Kr] + stiffness (p - position), with
+// p = (x, y) the state's deflection, `position` the deflection the chips were computed from and
+// `stiffness` = dF/dp there (the regenerative term; zero for the other filters).
 struct ForceInput {
-  Eigen::Vector2d known_N = Eigen::Vector2d::Zero();       // (Fx, Fy), N
-  Eigen::Matrix2d regressor_m2 = Eigen::Matrix2d::Zero();  // rows Fx, Fy; columns Kt, Kr; m^2
+  Eigen::Vector2d known_N = Eigen::Vector2d::Zero();        // (Fx, Fy), N
+  Eigen::Matrix2d regressor_m2 = Eigen::Matrix2d::Zero();   // rows Fx, Fy; columns Kt, Kr; m^2
+  Eigen::Matrix2d stiffness_N_m = Eigen::Matrix2d::Zero();  // rows Fx, Fy; columns x, y; N/m
+  Eigen::Vector2d position_m = Eigen::Vector2d::Zero();     // (x, y) of the linearization, m
 };
 
 // Per-tooth regressor d(Fx, Fy) / d(Kt_p, Kr_p) = b g w [[-cos, -sin], [sin, -cos]].
@@ -127,6 +134,16 @@ class CutChips {
   Eigen::Index samples() const { return n_; }
   // tau / T, tau = 60 / (rpm n) (the chip delay in samples).
   double delay_samples() const { return delay_; }
+  // The delayed value of a series at sample k: v(k - delay_int) and, when tau / T is not an
+  // integer, the linear interpolation towards v(k - delay_int - 1) (as chips() does).
+  double delayed(const Eigen::VectorXd& v, Eigen::Index k) const {
+    double d = v[k - delay_int_];
+    if (delay_frac_ > 0.0) d += delay_frac_ * (v[k - delay_int_ - 1] - d);
+    return d;
+  }
+  // The chip model (000 eq. 2.7, engagement and switching of the setup).
+  const TraditionalChips& model() const { return model_; }
+  const MeasuredCut& cut() const { return cut_; }
 
  private:
   const MeasuredCut& cut_;

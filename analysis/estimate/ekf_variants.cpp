@@ -302,9 +302,52 @@ EkfResult run_coeff_shared(EstimatorId id, const MeasuredCut& cut, const CutChip
       });
 }
 
-template <bool kUnscented>
+// The chips of filter p from its own deflection estimates (ekf-coeff-xy-feedback, 000 secs 4.4
+// and 8.2): its current estimate p^ = (x^, y^) and its own estimate at t - tau, kept for every
+// sample (before the filter starts: the measured deflection). Fills the ForceInput of filter p:
+// tooth p's regressor, the other teeth's forces with the other filters' coefficients, and the
+// regenerative stiffness dF/dp = sum_q b g_q U(theta_q) K_q (sin theta_q, cos theta_q), with
+// U = [[-cos, -sin], [sin, -cos]] (F_q = b w_q U K_q, w_q = h sin + dx sin + dy cos).
+template <class Filter>
+ForceInput feedback_input(const CutChips& chips, Eigen::Index k, const Eigen::VectorXd& est_x,
+                          const Eigen::VectorXd& est_y, const std::vector<Filter>& filters, int p) {
+  constexpr int kKt = CoeffXyModel::kKt;
+  const MeasuredCut& cut = chips.cut();
+  const typename Filter::State& own = filters[static_cast<std::size_t>(p)].state();
+  StepMeasurement m;
+  m.theta1_rad = cut.theta1_rad[k];
+  m.depth_m = cut.depth_m.size() == 1 ? cut.depth_m[0] : cut.depth_m[k];
+  m.x_m = own[0];
+  m.y_m = own[2];
+  m.x_delayed_m = chips.delayed(est_x, k);
+  m.y_delayed_m = chips.delayed(est_y, k);
+  const StepChips c = chips.model()(m);
+  ForceInput u;
+  u.position_m = Eigen::Vector2d(m.x_m, m.y_m);
+  for (int q = 0; q < c.teeth; ++q) {
+    const ToothChip& t = c.tooth[static_cast<std::size_t>(q)];
+    if (!((c.engaged >> q) & 1u)) continue;
+    const Eigen::Vector2d K = filters[static_cast<std::size_t>(q)].state().template segment<2>(kKt);
+    const Eigen::Matrix2d R = tooth_regressor_m2(t);
+    if (q == p) {
+      u.regressor_m2 = R;
+    } else {
+      u.known_N.noalias() += R * K;
+    }
+    Eigen::Matrix2d unit;
+    unit << -t.cos_theta, -t.sin_theta, t.sin_theta, -t.cos_theta;
+    const Eigen::Vector2d dF_dw = m.depth_m * (unit * K);
+    u.stiffness_N_m.col(0).noalias() += dF_dw * t.sin_theta;
+    u.stiffness_N_m.col(1).noalias() += dF_dw * t.cos_theta;
+  }
+  return u;
+}
+
+template <FilterKind kKind>
 EkfResult run_coeff_per_tooth(EstimatorId id, const MeasuredCut& cut, const CutChips& chips,
                               const CoeffEkfInputs& in, const CoeffEkfOptions& o) {
+  constexpr bool kUnscented = kKind == FilterKind::kUnscented;
+  constexpr bool kFeedback = kKind == FilterKind::kExtendedFeedback;
   using Filter = FilterOf<CoeffXyModel, kUnscented>;
   constexpr int kKt = CoeffXyModel::kKt;
   EkfResult res;
@@ -346,32 +389,56 @@ EkfResult run_coeff_per_tooth(EstimatorId id, const MeasuredCut& cut, const CutC
 
   std::array<Eigen::Matrix2d, milling::kMaxTeeth> regressor;
   std::array<Eigen::Vector2d, milling::kMaxTeeth> force;
+  std::array<ForceInput, milling::kMaxTeeth> inputs;
+  // Feedback: each filter's own deflection estimates, one per sample, the measured deflection
+  // until the filter has its own (allocated once, before the step loop).
+  std::vector<Eigen::VectorXd> est_x, est_y;
+  if constexpr (kFeedback) {
+    est_x.assign(static_cast<std::size_t>(n), cut.x_m);
+    est_y.assign(static_cast<std::size_t>(n), cut.y_m);
+  }
   const auto start = std::chrono::steady_clock::now();
   std::int64_t s = 0;
   bool finite = true;
   for (Eigen::Index k = k0; k + 1 < chips.samples() && finite; ++k) {
-    const StepChips c = chips.chips(k);
-    Eigen::Vector2d total = Eigen::Vector2d::Zero();
-    for (int p = 0; p < n; ++p) {
-      const std::size_t i = static_cast<std::size_t>(p);
-      regressor[i] = tooth_regressor_m2(c.tooth[i]);
-      force[i].noalias() = regressor[i] * filters[i].state().template segment<2>(kKt);
-      total += force[i];
+    std::uint32_t engaged = 0;
+    if constexpr (kFeedback) {
+      for (int p = 0; p < n; ++p) {
+        const std::size_t i = static_cast<std::size_t>(p);
+        inputs[i] = feedback_input(chips, k, est_x[i], est_y[i], filters, p);
+        if (!inputs[i].regressor_m2.isZero(0.0)) engaged |= 1u << p;
+      }
+    } else {
+      const StepChips c = chips.chips(k);
+      engaged = c.engaged;
+      Eigen::Vector2d total = Eigen::Vector2d::Zero();
+      for (int p = 0; p < n; ++p) {
+        const std::size_t i = static_cast<std::size_t>(p);
+        regressor[i] = tooth_regressor_m2(c.tooth[i]);
+        force[i].noalias() = regressor[i] * filters[i].state().template segment<2>(kKt);
+        total += force[i];
+      }
+      for (int p = 0; p < n; ++p) {
+        const std::size_t i = static_cast<std::size_t>(p);
+        inputs[i].known_N = total - force[i];
+        inputs[i].regressor_m2 = regressor[i];
+      }
     }
     for (int p = 0; p < n; ++p) {
       const std::size_t i = static_cast<std::size_t>(p);
-      ForceInput u;
-      u.known_N = total - force[i];
-      u.regressor_m2 = regressor[i];
-      filters[i].predict(u);
+      filters[i].predict(inputs[i]);
     }
     const CoeffXyModel::Measurement z(cut.x_m[k + 1], cut.y_m[k + 1]);
     for (int p = 0; p < n; ++p) {
       const std::size_t i = static_cast<std::size_t>(p);
-      const bool own_tooth_cut = (c.engaged >> p) & 1u;
+      const bool own_tooth_cut = (engaged >> p) & 1u;
       nis[i].add(!gated || own_tooth_cut ? filters[i].update(z)
                                          : filters[i].update_consider(z, hold));
       finite = finite && filters[i].state().allFinite();
+      if constexpr (kFeedback) {
+        est_x[i][k + 1] = filters[i].state()[0];
+        est_y[i][k + 1] = filters[i].state()[2];
+      }
     }
     ++s;
     if (!finite) {
@@ -486,8 +553,14 @@ EkfResult ekf_coeff(EstimatorId id, const MeasuredCut& cut, const CutSetup& setu
     return u ? run_coeff_shared<true>(id, cut, chips, inputs, options)
              : run_coeff_shared<false>(id, cut, chips, inputs, options);
   }
-  return u ? run_coeff_per_tooth<true>(id, cut, chips, inputs, options)
-           : run_coeff_per_tooth<false>(id, cut, chips, inputs, options);
+  switch (estimator_info(id).filter) {
+    case FilterKind::kUnscented:
+      return run_coeff_per_tooth<FilterKind::kUnscented>(id, cut, chips, inputs, options);
+    case FilterKind::kExtendedFeedback:
+      return run_coeff_per_tooth<FilterKind::kExtendedFeedback>(id, cut, chips, inputs, options);
+    default:
+      return run_coeff_per_tooth<FilterKind::kExtended>(id, cut, chips, inputs, options);
+  }
 }
 
 }  // namespace estimate

@@ -30,6 +30,15 @@
 //                           so there the UKF equals the EKF to rounding. The modal UKFs start
 //                           from a physically scaled P0 of the parameters (ModalEkfOptions::
 //                           ukf_p0_relative_sd), so that no sigma point has a negative mass.
+//
+//   ekf-coeff-xy-feedback   000 secs 4.4 and 8.2: ekf-coeff-xy-per-tooth with the chips of each
+//                           filter computed from its own estimates, not from the measured
+//                           deflections: w = h sin + (x^(t) - x^(t - tau)) sin + (y^ ...) cos,
+//                           x^(t) the current estimate (its regenerative stiffness dF/dx enters
+//                           the Jacobian) and x^(t - tau) the filter's own estimate one tooth
+//                           period earlier, kept for every sample. The delayed estimates enter
+//                           as inputs: their cross-covariance with the current state is not
+//                           carried (docs/estimators.md, "Feedback variant").
 #pragma once
 
 #include <Eigen/Core>
@@ -61,11 +70,13 @@ enum class EstimatorId {
   kUkfModalXyMc,
   kUkfCoeffXy,
   kUkfCoeffXyPerTooth,
+  kCoeffXyFeedback,
 };
 
-// The filter that steps a variant's model: the EKF of 000 eqs 4.5-4.9 or the unscented filter
-// of analysis/kalman/unscented_kalman_filter.h on the same model, noise and data.
-enum class FilterKind { kExtended, kUnscented };
+// The filter that steps a variant's model: the EKF of 000 eqs 4.5-4.9, the unscented filter
+// of analysis/kalman/unscented_kalman_filter.h on the same model, noise and data, or the EKF
+// whose chips come from its own delayed estimates (000 secs 4.4 and 8.2).
+enum class FilterKind { kExtended, kUnscented, kExtendedFeedback };
 
 // One row per variant: everything else about the variants (names, state counts, lists of all
 // variants, estimate keys) derives from this table.
@@ -86,7 +97,7 @@ struct EstimatorInfo {
 };
 
 // clang-format off
-inline constexpr std::array<EstimatorInfo, 12> kEstimators{{
+inline constexpr std::array<EstimatorInfo, 13> kEstimators{{
 //  id, name, states, modal, measured_axes, per_tooth, key_count, keys, source, filter, structure
     {EstimatorId::kModalX,          "ekf-modal-x",            ModalXModel::kStates,    true,  1, false, 3, {"m_kg", "c_kg_s", "k_N_m"},    "000 eqs 4.3-4.14", FilterKind::kExtended, EstimatorId::kModalX},
     {EstimatorId::kModalXy,         "ekf-modal-xy",           ModalXyModel::kStates,   true,  2, false, 3, {"m_kg", "c_kg_s", "k_N_m"},    "000 eqs 4.15-4.22", FilterKind::kExtended, EstimatorId::kModalXy},
@@ -100,6 +111,7 @@ inline constexpr std::array<EstimatorInfo, 12> kEstimators{{
     {EstimatorId::kUkfModalXyMc,       "ukf-modal-xy-mc",        ModalXyMcModel::kStates, true,  2, false, 2, {"m_kg", "c_kg_s", nullptr},    "000 sec. 6.1 model (k held), unscented filter", FilterKind::kUnscented, EstimatorId::kModalXyMc},
     {EstimatorId::kUkfCoeffXy,         "ukf-coeff-xy",           CoeffXyModel::kStates,   false, 2, false, 2, {"Kt_N_m2", "Kr_N_m2", nullptr}, "000 eqs 4.23-4.32 model, unscented filter", FilterKind::kUnscented, EstimatorId::kCoeffXy},
     {EstimatorId::kUkfCoeffXyPerTooth, "ukf-coeff-xy-per-tooth", CoeffXyModel::kStates,   false, 2, true,  2, {"Kt", "Kr", nullptr},          "000 sec. 4.4 model, unscented filter", FilterKind::kUnscented, EstimatorId::kCoeffXyPerTooth},
+    {EstimatorId::kCoeffXyFeedback,    "ekf-coeff-xy-feedback",  CoeffXyModel::kStates,   false, 2, true,  2, {"Kt", "Kr", nullptr},          "000 secs 4.4, 8.2: chips from the filter's delayed estimates", FilterKind::kExtendedFeedback, EstimatorId::kCoeffXyPerTooth},
 }};
 // clang-format on
 inline constexpr std::size_t kEstimatorCount = kEstimators.size();
@@ -125,6 +137,17 @@ constexpr int estimator_states(EstimatorId id) { return estimator_info(id).state
 constexpr bool is_modal(EstimatorId id) { return estimator_info(id).modal; }
 constexpr bool is_unscented(EstimatorId id) {
   return estimator_info(id).filter == FilterKind::kUnscented;
+}
+// "extended", "unscented" or "extended-feedback" (results.json `filter`).
+constexpr const char* filter_name(EstimatorId id) {
+  switch (estimator_info(id).filter) {
+    case FilterKind::kUnscented:
+      return "unscented";
+    case FilterKind::kExtendedFeedback:
+      return "extended-feedback";
+    default:
+      return "extended";
+  }
 }
 // The EKF variant with the same model and inputs (the id itself for an EKF).
 constexpr EstimatorId structure_of(EstimatorId id) { return estimator_info(id).structure; }

@@ -59,6 +59,7 @@ class ToolModel {
       Layout::stiffness ? kFirstParameter + int{Layout::mass} + int{Layout::damping} : -1;
   static constexpr int kKt = Layout::coefficients ? kFirstParameter : -1;
   static constexpr int kKr = Layout::coefficients ? kFirstParameter + 1 : -1;
+  static_assert(!Layout::coefficients || Layout::y_axis, "the coefficient layouts have x and y");
 
   using State = Eigen::Matrix<double, kStates, 1>;
   using Noise = Eigen::Matrix<double, kNoises, 1>;
@@ -98,8 +99,12 @@ class ToolModel {
     const double m = mass(x), c = damping(x), k = stiffness(x);
     const double inv_m = 1.0 / m;
     Eigen::Vector2d force = u.known_N;
-    if constexpr (Layout::coefficients)
+    if constexpr (Layout::coefficients) {
       force.noalias() += u.regressor_m2 * x.template segment<2>(kKt);
+      // Chips from the filter's own deflection (ForceInput): zero stiffness for the others.
+      const Eigen::Vector2d dp(x[0] - u.position_m[0], x[2] - u.position_m[1]);
+      force.noalias() += u.stiffness_N_m * dp;
+    }
     State out;
     if (J_f_x) J_f_x->setIdentity();
     if (J_f_w) J_f_w->setZero();
@@ -119,6 +124,8 @@ class ToolModel {
         if constexpr (Layout::coefficients) {
           J(iv, kKt) = T_ * u.regressor_m2(a, 0) * inv_m;
           J(iv, kKr) = T_ * u.regressor_m2(a, 1) * inv_m;
+          J(iv, 0) += T_ * u.stiffness_N_m(a, 0) * inv_m;  // dF_a / dx (feedback chips)
+          J(iv, 2) += T_ * u.stiffness_N_m(a, 1) * inv_m;  // dF_a / dy
         }
         if (symplectic_) {
           J.row(ip) = T_ * J.row(iv);

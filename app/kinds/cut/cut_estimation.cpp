@@ -149,6 +149,23 @@ std::vector<std::pair<std::string, double>> scale_free_values(const CutEstimatio
   return v;
 }
 
+std::vector<FeedbackDifference> feedback_differences(const CutEstimation& e) {
+  const estimate::EkfResult* measured = nullptr;
+  const estimate::EkfResult* feedback = nullptr;
+  for (const auto& v : e.variants) {
+    if (!v.run.summary.ok()) continue;
+    if (v.run.id == estimate::EstimatorId::kCoeffXyPerTooth) measured = &v.run;
+    if (v.run.id == estimate::EstimatorId::kCoeffXyFeedback) feedback = &v.run;
+  }
+  std::vector<FeedbackDifference> out;
+  if (!measured || !feedback) return out;
+  for (const auto& m : measured->estimates) {
+    const double f = feedback->value(m.key);
+    out.push_back({m.key, m.value, f, 100.0 * (f / m.value - 1.0)});
+  }
+  return out;
+}
+
 milling::SimulationOptions cut_model(const TestSpec& t, const ToolSpec& tool,
                                      const milling::AxisModal& x, const milling::AxisModal& y,
                                      const std::vector<milling::CuttingCoefficients>& k) {
@@ -241,9 +258,10 @@ CutEstimation run_cut_estimation(const TestSpec& t, const CutStepInputs& in,
     parallel_for(ids.size(), jobs, [&](std::size_t i) {
       VariantOutcome& v = out.variants[i];
       const EstimatorId id = ids[i];
-      // 000 sec. 6.2's repeatability study is of the EKFs; the unscented twins are not repeated
-      // (docs/estimators.md, "Unscented variants": it would triple the estimation's time).
-      const bool repeat = o.repeat.runs > 0 && !estimate::is_unscented(id);
+      // 000 sec. 6.2's repeatability study is of its EKFs; the unscented twins and the feedback
+      // filter are not repeated (docs/estimators.md: it would triple the estimation's time).
+      const bool repeat = o.repeat.runs > 0 &&
+                          estimate::estimator_info(id).filter == estimate::FilterKind::kExtended;
       try {
         if (estimate::is_modal(id)) {
           estimate::ModalParameters start = hammer;

@@ -94,6 +94,19 @@ std::vector<std::pair<std::string, double>> keyed_values(
 // zeta = c / (2 sqrt(k m)), and per tooth Kt<p>_over_k_per_m = Kt_p / k, Kr<p>_over_k_per_m.
 std::vector<std::pair<std::string, double>> scale_free_values(const CutEstimation& e);
 
+// The feedback filter (ekf-coeff-xy-feedback) against the measured-chip per-tooth filter
+// (ekf-coeff-xy-per-tooth), per estimate key: 100 (feedback / measured - 1). A measured chip
+// carries the sensors' noise in x(t) - x(t - tau), which biases the coefficients low, most on the
+// stronger tooth (errors in variables); a feedback value clearly above the measured one there
+// shows that bias. Empty unless both ran.
+struct FeedbackDifference {
+  std::string key;  // "Kt1_N_m2", ...
+  double measured = 0.0;
+  double feedback = 0.0;
+  double difference_pct = 0.0;
+};
+std::vector<FeedbackDifference> feedback_differences(const CutEstimation& e);
+
 struct CutStepInputs;  // cut_step.h
 
 // Steps 1-4 above for one cut test. `initial_offset` is the offset found with the hammer-test

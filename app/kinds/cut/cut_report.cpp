@@ -225,6 +225,15 @@ json cut_context(const CampaignResults& r, const TestOutcome& t, const FigureSet
     est["offset_hammer_deg"] = fmt_fixed(c.offset.search.offset_angle_deg, 2);
     est["offset_hammer_relative_pct"] = fmt_sig(100 * c.offset.relative_error, 3);
     est["variant_rows"] = variant_rows(e);
+    json feedback = json::array();
+    for (const auto& f : feedback_differences(e)) {
+      feedback.push_back({{"key", key_format(f.key).label},
+                          {"measured", key_value(f.key, f.measured)},
+                          {"feedback", key_value(f.key, f.feedback)},
+                          {"difference_pct", fmt_sig(f.difference_pct, 3)}});
+    }
+    est["has_feedback"] = !feedback.empty();
+    est["feedback"] = feedback;
     est["has_seeded"] = estimation_options(r.campaign).repeat.runs > 0;
     est["seeded_runs"] = estimation_options(r.campaign).repeat.runs;
     est["seeded_spread_pct"] = fmt_sig(100 * estimation_options(r.campaign).repeat.spread, 3);

@@ -68,7 +68,7 @@ json variant_json(const VariantOutcome& v) {
     for (const auto& n : r.nis_per_filter) per.push_back(nis_json(n));
     j["nis_per_filter"] = per;
   }
-  j["filter"] = estimate::is_unscented(r.id) ? "unscented" : "extended";
+  j["filter"] = estimate::filter_name(r.id);
   j["known"] = v.known;
   j["start"] = v.start;
   if (v.observability_status.ok()) {
@@ -192,6 +192,14 @@ json cut_json(const CutOutcome& c) {
     j["offset_identified_relative_error"] = number_or_null(c.estimation.offset.relative_error);
     j["offset_identified_ambiguous"] = c.estimation.offset.search.ambiguous;
     for (const auto& v : c.estimation.variants) estimators[v.run.estimator] = variant_json(v);
+    const std::vector<FeedbackDifference> fd = feedback_differences(c.estimation);
+    if (!fd.empty()) {
+      json d = json::object();
+      for (const auto& f : fd) {
+        d[f.key.substr(0, f.key.find('_')) + "_difference_pct"] = number_or_null(f.difference_pct);
+      }
+      j["chip_feedback"] = d;
+    }
     if (c.ramped) {
       json sim = json::object();
       for (const auto& s : c.estimation.simulated) {

@@ -49,7 +49,8 @@ TEST(EstimatorNames, RoundTripAndSizes) {
   expect_error([] { estimator_from_name("ukf-modal"); },
                "estimator = ukf-modal: unknown (ekf-modal-x, ekf-modal-xy, ekf-modal-xy-mk, "
                "ekf-modal-xy-mc, ekf-coeff-xy, ekf-coeff-xy-per-tooth, ukf-modal-x, ukf-modal-xy, "
-               "ukf-modal-xy-mk, ukf-modal-xy-mc, ukf-coeff-xy, ukf-coeff-xy-per-tooth)");
+               "ukf-modal-xy-mk, ukf-modal-xy-mc, ukf-coeff-xy, ukf-coeff-xy-per-tooth, "
+               "ekf-coeff-xy-feedback)");
 }
 
 TEST(EkfOptions, ValidationNamesFieldValueAndRule) {

@@ -64,6 +64,9 @@ Point<Model> random_point(std::mt19937_64& rng) {
   }
   p.u.known_N = Eigen::Vector2d(uniform(rng, -200.0, 200.0), uniform(rng, -200.0, 200.0));
   for (int i = 0; i < 4; ++i) p.u.regressor_m2(i / 2, i % 2) = uniform(rng, -3e-8, 3e-8);
+  // The feedback chips' regenerative stiffness (ekf-coeff-xy-feedback), up to the tool's k.
+  for (int i = 0; i < 4; ++i) p.u.stiffness_N_m(i / 2, i % 2) = uniform(rng, -1e6, 1e6);
+  p.u.position_m = Eigen::Vector2d(uniform(rng, -1e-4, 1e-4), uniform(rng, -1e-4, 1e-4));
   return p;
 }
 

@@ -16,7 +16,7 @@ namespace {
 TEST(EstimatorTable, DerivedFunctionsFollowTheTable) {
   // all_estimators() lists each id once, in enum order; names are unique and round-trip.
   const auto ids = all_estimators();
-  ASSERT_EQ(ids.size(), 12u);
+  ASSERT_EQ(ids.size(), 13u);
   std::set<std::string> names;
   for (std::size_t i = 0; i < ids.size(); ++i) {
     EXPECT_EQ(static_cast<std::size_t>(ids[i]), i);
@@ -27,14 +27,22 @@ TEST(EstimatorTable, DerivedFunctionsFollowTheTable) {
     EXPECT_EQ(estimator_states(ids[i]), e.states);
     EXPECT_EQ(is_modal(ids[i]), e.modal);
     // The first six are the EKFs of EXPERIMENT_FORMAT.md; the next six their unscented twins,
-    // named "ukf-" + the twin's name without "ekf-", with the same states and keys.
+    // named "ukf-" + the twin's name without "ekf-", with the same states and keys; the last
+    // the feedback filter on the per-tooth model.
     const EstimatorId twin = structure_of(ids[i]);
-    EXPECT_EQ(is_unscented(ids[i]), i >= 6);
-    EXPECT_EQ(static_cast<std::size_t>(twin), i % 6);
-    EXPECT_EQ(std::string(e.name),
-              (i >= 6 ? "ukf-" : "ekf-") + std::string(estimator_name(twin)).substr(4));
+    EXPECT_EQ(is_unscented(ids[i]), i >= 6 && i < 12);
     EXPECT_EQ(estimate_keys(ids[i], 2), estimate_keys(twin, 2));
     EXPECT_EQ(estimator_states(ids[i]), estimator_states(twin));
+    if (i < 12) {
+      EXPECT_EQ(static_cast<std::size_t>(twin), i % 6);
+      EXPECT_EQ(std::string(e.name),
+                (i >= 6 ? "ukf-" : "ekf-") + std::string(estimator_name(twin)).substr(4));
+      EXPECT_STREQ(filter_name(ids[i]), i >= 6 ? "unscented" : "extended");
+    } else {
+      EXPECT_EQ(twin, EstimatorId::kCoeffXyPerTooth);
+      EXPECT_STREQ(e.name, "ekf-coeff-xy-feedback");
+      EXPECT_STREQ(filter_name(ids[i]), "extended-feedback");
+    }
     names.insert(e.name);
   }
   EXPECT_EQ(names.size(), ids.size());

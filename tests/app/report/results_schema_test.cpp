@@ -169,7 +169,7 @@ TEST(ResultsSchema, ReportOfASynthCampaignValidatesAndBrokenCopiesFail) {
   EXPECT_TRUE(r["groups"]["dyno-slot"].contains("Ktc_N_m2"));
   EXPECT_EQ(r["identified_from"], "cuts/constant");
   EXPECT_FALSE(r["truth_comparison"].empty());
-  EXPECT_EQ(tests["cuts/constant"]["estimators"].size(), 12u);
+  EXPECT_EQ(tests["cuts/constant"]["estimators"].size(), 13u);
   EXPECT_TRUE(tests["cuts/incline"]["bifurcation_depth_mm"].is_number());
   EXPECT_EQ(tests["cuts/incline"]["figures"]["bifurcation"]["csv"],
             "figures/cut-cuts-incline-bifurcation.csv");

@@ -136,10 +136,13 @@ std::vector<double> identify_one(int seed) {
   // Every variant ran, with 000 sec. 4.5's observability ranks at the operating point (an
   // unscented variant's are its model's, the EKF twin's).
   const std::map<std::string, std::pair<int, int>> ranks = {
-      {"ekf-modal-x", {3, 5}},     {"ekf-modal-xy", {6, 7}}, {"ekf-modal-xy-mk", {6, 6}},
-      {"ekf-modal-xy-mc", {6, 6}}, {"ekf-coeff-xy", {6, 6}}, {"ekf-coeff-xy-per-tooth", {6, 6}},
-      {"ukf-modal-x", {3, 5}},     {"ukf-modal-xy", {6, 7}}, {"ukf-modal-xy-mk", {6, 6}},
-      {"ukf-modal-xy-mc", {6, 6}}, {"ukf-coeff-xy", {6, 6}}, {"ukf-coeff-xy-per-tooth", {6, 6}}};
+      {"ekf-modal-x", {3, 5}},          {"ekf-modal-xy", {6, 7}},
+      {"ekf-modal-xy-mk", {6, 6}},      {"ekf-modal-xy-mc", {6, 6}},
+      {"ekf-coeff-xy", {6, 6}},         {"ekf-coeff-xy-per-tooth", {6, 6}},
+      {"ukf-modal-x", {3, 5}},          {"ukf-modal-xy", {6, 7}},
+      {"ukf-modal-xy-mk", {6, 6}},      {"ukf-modal-xy-mc", {6, 6}},
+      {"ukf-coeff-xy", {6, 6}},         {"ukf-coeff-xy-per-tooth", {6, 6}},
+      {"ekf-coeff-xy-feedback", {6, 6}}};
   EXPECT_EQ(e.variants.size(), ranks.size());
   for (const auto& v : e.variants) {
     EXPECT_TRUE(v.run.summary.ok()) << v.run.estimator << ": " << v.run.summary.message;
