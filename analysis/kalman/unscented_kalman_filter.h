@@ -36,6 +36,7 @@
 #include <string>
 
 #include "analysis/kalman/extended_kalman_filter.h"
+#include "analysis/kalman/filter_base.h"
 #include "analysis/kalman/filter_types.h"
 #include "analysis/kalman/measurement_update.h"
 
@@ -69,22 +70,28 @@ inline void validate(const UnscentedOptions& o, int n) {
 }
 
 template <class Model>
-class UnscentedKalmanFilter {
+class UnscentedKalmanFilter : public KalmanFilterBase<UnscentedKalmanFilter<Model>, Model,
+                                                      Model::kStates, Model::kMeasurements> {
+  using Base =
+      KalmanFilterBase<UnscentedKalmanFilter<Model>, Model, Model::kStates, Model::kMeasurements>;
+  friend Base;
+
  public:
   static constexpr int N = Model::kStates;
   static constexpr int M = Model::kMeasurements;
-  static constexpr int kPoints = 2 * N + 1;
-  using State = Matrix<N, 1>;
-  using StateMatrix = Matrix<N, N>;
-  using Measurement = Matrix<M, 1>;
+  using typename Base::Measurement;
+  using typename Base::State;
+  using typename Base::StateMatrix;
   using Input = typename Model::Input;
 
   // @param model the process and measurement model (extended_kalman_filter.h; the Jacobian
   // arguments are passed null). @param x0, P0 initial estimate and its covariance (positive
   // definite). @param options the sigma points (validated: std::invalid_argument).
+  // The base's estimate, accessors and update(z) are shared with the other filters; its
+  // multirate update(z, present) is not provided (it needs a measurement subset of sigma points).
   UnscentedKalmanFilter(const Model& model, const State& x0, const StateMatrix& P0,
                         const UnscentedOptions& options = {})
-      : model_(model), x_(x0), P_(P0) {
+      : Base(model, x0, P0, FilterOptions{}) {
     validate(options, N);
     const double c = options.spread2(N);
     const double lambda = c - N;
@@ -94,37 +101,26 @@ class UnscentedKalmanFilter {
     wi_ = 0.5 / c;
   }
 
-  const State& state() const { return x_; }
-  const StateMatrix& covariance() const { return P_; }
-  const Model& model() const { return model_; }
-  void set_state(const State& x, const StateMatrix& P) {
-    x_ = x;
-    P_ = P;
-  }
-
   // @param u input u_k-1 of f.
   void predict(const Input& u) {
     Matrix<N, N> S;
     if (!square_root(S)) return poison();
-    const State y0 = model_.propagate(x_, u, nullptr);
+    const State y0 = this->model_.propagate(this->x_, u, nullptr);
     Matrix<N, 2 * N> dY;
     for (int i = 0; i < N; ++i) {
-      dY.col(i) = model_.propagate(x_ + S.col(i), u, nullptr) - y0;
-      dY.col(N + i) = model_.propagate(x_ - S.col(i), u, nullptr) - y0;
+      dY.col(i) = this->model_.propagate(this->x_ + S.col(i), u, nullptr) - y0;
+      dY.col(N + i) = this->model_.propagate(this->x_ - S.col(i), u, nullptr) - y0;
     }
     // The mean's offset from Y_0; Y_0 - x- = -dm.
     const State dm = wi_ * dY.rowwise().sum();
     StateMatrix P = wc0_ * dm * dm.transpose();
     dY.colwise() -= dm;
     P.noalias() += wi_ * dY * dY.transpose();
-    model_.add_process_noise(x_, &P);  // Q_d at x+
+    this->model_.add_process_noise(this->x_, &P);  // Q_d at x+
     P.template triangularView<Eigen::StrictlyLower>() = P.transpose();
-    x_ = y0 + dm;
-    P_ = P;
+    this->x_ = y0 + dm;
+    this->P_ = P;
   }
-
-  // @param z measurement (M), every row present.
-  Innovation update(const Measurement& z) { return update_all(z, nullptr); }
 
   // Schmidt update: the states in `considered` keep their estimates (measurement_update.h).
   Innovation update_consider(const Measurement& z, const StateMask<N>& considered) {
@@ -133,13 +129,13 @@ class UnscentedKalmanFilter {
 
  private:
   Innovation update_all(const Measurement& z, const StateMask<N>* considered) {
-    const Matrix<M, M>& R = model_.measurement_noise();
+    const Matrix<M, M>& R = this->model_.measurement_noise();
     Matrix<N, M> Pxz;
     Matrix<M, M> S;
     Measurement nu;
     if constexpr (SelectsStates<Model>::value) {
-      nu = z - model_.measure(x_, nullptr);
-      for (int i = 0; i < M; ++i) Pxz.col(i) = P_.col(Model::measured_state(i));
+      nu = z - this->model_.measure(this->x_, nullptr);
+      for (int i = 0; i < M; ++i) Pxz.col(i) = this->P_.col(Model::measured_state(i));
       for (int i = 0; i < M; ++i) {
         for (int j = 0; j < M; ++j) S(i, j) = Pxz(Model::measured_state(i), j) + R(i, j);
       }
@@ -149,12 +145,12 @@ class UnscentedKalmanFilter {
         poison();
         return Innovation{};
       }
-      const Measurement z0 = model_.measure(x_, nullptr);
+      const Measurement z0 = this->model_.measure(this->x_, nullptr);
       Matrix<M, 2 * N> dZ;
       Matrix<N, 2 * N> dX;
       for (int i = 0; i < N; ++i) {
-        dZ.col(i) = model_.measure(x_ + L.col(i), nullptr) - z0;
-        dZ.col(N + i) = model_.measure(x_ - L.col(i), nullptr) - z0;
+        dZ.col(i) = this->model_.measure(this->x_ + L.col(i), nullptr) - z0;
+        dZ.col(N + i) = this->model_.measure(this->x_ - L.col(i), nullptr) - z0;
         dX.col(i) = L.col(i);
         dX.col(N + i) = -L.col(i);
       }
@@ -167,7 +163,7 @@ class UnscentedKalmanFilter {
       nu = z - (z0 + dm);
     }
     return gain_update<N, M, M>(nu, Pxz, S, Matrix<M, N>::Zero(), R, considered,
-                                CovarianceUpdate::kStandard, x_, P_);
+                                CovarianceUpdate::kStandard, this->x_, this->P_);
   }
 
   // S = sqrt((n + lambda) P) = scale D chol(D^-1 P D^-1), lower triangular; false when P is not
@@ -175,11 +171,11 @@ class UnscentedKalmanFilter {
   bool square_root(Matrix<N, N>& S) const {
     State d;
     for (int i = 0; i < N; ++i) {
-      if (!(P_(i, i) > 0.0) || !std::isfinite(P_(i, i))) return false;
-      d[i] = std::sqrt(P_(i, i));
+      if (!(this->P_(i, i) > 0.0) || !std::isfinite(this->P_(i, i))) return false;
+      d[i] = std::sqrt(this->P_(i, i));
     }
     const State inv_d = d.cwiseInverse();
-    const Matrix<N, N> C = inv_d.asDiagonal() * P_ * inv_d.asDiagonal();
+    const Matrix<N, N> C = inv_d.asDiagonal() * this->P_ * inv_d.asDiagonal();
     const Eigen::LLT<Matrix<N, N>> llt(C);
     if (llt.info() != Eigen::Success) return false;
     S = (scale_ * d).asDiagonal() * llt.matrixL().toDenseMatrix();
@@ -188,13 +184,10 @@ class UnscentedKalmanFilter {
 
   // The estimate becomes NaN for the caller to see (P not positive definite).
   void poison() {
-    x_.setConstant(std::numeric_limits<double>::quiet_NaN());
-    P_.setConstant(std::numeric_limits<double>::quiet_NaN());
+    this->x_.setConstant(std::numeric_limits<double>::quiet_NaN());
+    this->P_.setConstant(std::numeric_limits<double>::quiet_NaN());
   }
 
-  Model model_;
-  State x_;
-  StateMatrix P_;
   double scale_ = 1.0;  // sqrt(n + lambda)
   double wm0_ = 0.0;
   double wc0_ = 0.0;
