@@ -5,6 +5,7 @@
 // up to 10 mm by a 16-point scan and bisection to 0.1 %, m = 30 intervals per tooth period.
 #include <benchmark/benchmark.h>
 
+#include <cstdint>
 #include <vector>
 
 #include "analysis/common/constants.h"
@@ -59,9 +60,8 @@ void BM_LobesSemiDiscretization200SpeedsSlot(benchmark::State& state) {
 }
 BENCHMARK(BM_LobesSemiDiscretization200SpeedsSlot)->Unit(benchmark::kMillisecond);
 
-// The same diagram at the automatic m (a/D = 0.05: 81 intervals per tooth period).
-void BM_LobesAutomaticM200Speeds(benchmark::State& state) {
-  const LobesInput in = diagram();
+// The 200 speeds of `in` by semi-discretization at its automatic m, on state.range(0) threads.
+void run_automatic_m(benchmark::State& state, const LobesInput& in) {
   SemiDiscretizationOptions o;
   o.steps_per_tooth = automatic_steps_per_tooth(in);
   o.threads = static_cast<int>(state.range(0));
@@ -69,8 +69,11 @@ void BM_LobesAutomaticM200Speeds(benchmark::State& state) {
     const LobesResult r = semi_discretization(in, o);
     benchmark::DoNotOptimize(r.speeds.data());
   }
-  state.SetItemsProcessed(state.iterations() * 200);
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(in.spindle_rpm.size()));
 }
+
+// The same diagram at the automatic m (a/D = 0.05: 81 intervals per tooth period).
+void BM_LobesAutomaticM200Speeds(benchmark::State& state) { run_automatic_m(state, diagram()); }
 BENCHMARK(BM_LobesAutomaticM200Speeds)
     ->Arg(1)
     ->Arg(2)
@@ -101,7 +104,7 @@ BENCHMARK(BM_LobesGrid200x200)
 
 // The demo campaign's hammer/dyno diagram: two modes per axis (state 8), Ktc, Krc of the dyno
 // group, up-milling at 0.382 mm of a 12.7 mm tool (automatic m = 109), 7,500-22,500 rpm.
-void BM_LobesDemoHammerModes200Speeds(benchmark::State& state) {
+LobesInput demo_hammer_modes() {
   LobesInput in;
   in.teeth = 2;
   in.radius_m = 6.35e-3;
@@ -113,14 +116,10 @@ void BM_LobesDemoHammerModes200Speeds(benchmark::State& state) {
   in.y_modes = {{0.03211, 13.39, 1.023e6}, {0.07, 35.0, 2.4e7}};
   for (int i = 0; i < 200; ++i) in.spindle_rpm.push_back(7500.0 + 15000.0 * i / 199.0);
   in.max_depth_m = 10e-3;
-  SemiDiscretizationOptions o;
-  o.steps_per_tooth = automatic_steps_per_tooth(in);
-  o.threads = static_cast<int>(state.range(0));
-  for (auto _ : state) {
-    const LobesResult r = semi_discretization(in, o);
-    benchmark::DoNotOptimize(r.speeds.data());
-  }
-  state.SetItemsProcessed(state.iterations() * 200);
+  return in;
+}
+void BM_LobesDemoHammerModes200Speeds(benchmark::State& state) {
+  run_automatic_m(state, demo_hammer_modes());
 }
 BENCHMARK(BM_LobesDemoHammerModes200Speeds)
     ->Arg(1)

@@ -105,20 +105,15 @@ int run_lobes(const std::filesystem::path& spec_file, const std::filesystem::pat
   ctx["tool"] =
       std::to_string(in.teeth) + " teeth, radius " + fmt_sig(in.radius_m * kMToMm, 4) + " mm";
   ctx["modal"] = "x: " + modes_text(in.x_modes) + "; y: " + modes_text(in.y_modes);
-  std::string k;
-  for (int p = 0; p < in.teeth; ++p) {
-    const auto i = static_cast<std::size_t>(p);
-    k += (p ? "; " : "") + std::string("tooth ") + std::to_string(p + 1) +
-         ": Kt = " + fmt_sig(in.Kt_N_m2[i], 4) + ", Kr = " + fmt_sig(in.Kr_N_m2[i], 4) +
-         " N/m\u00b2";
-  }
-  ctx["coefficients"] = k;
+  ctx["coefficients"] = tooth_coefficients_text(in.Kt_N_m2, in.Kr_N_m2);
   ctx["cut"] = std::string(in.operation == milling::Operation::kDownMilling ? "down-milling"
                                                                             : "up-milling") +
                ", radial immersion " + fmt_sig(in.radial_immersion_m * kMToMm, 4) + " mm";
-  ctx["grid"] = std::to_string(in.spindle_rpm.size()) + " speeds from " +
+  set_spec_title(
+      ctx, {"stability lobes", "stability lobes", "stability lobes, semi-discretization", "Grid",
+            std::to_string(in.spindle_rpm.size()) + " speeds from " +
                 fmt_sig(in.spindle_rpm.front(), 5) + " to " + fmt_sig(in.spindle_rpm.back(), 5) +
-                " rpm, depths up to " + fmt_sig(in.max_depth_m * kMToMm, 4) + " mm";
+                " rpm, depths up to " + fmt_sig(in.max_depth_m * kMToMm, 4) + " mm"});
   json rows = json::array();
   std::string summary;
   if (sd) {

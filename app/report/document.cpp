@@ -5,6 +5,7 @@
 
 #include "analysis/common/summary.h"
 #include "app/core/checked_write.h"
+#include "app/core/format.h"
 #include "app/report/html_pages.h"
 #include "render/html_to_pdf.h"
 #include "render/mustache_template.h"
@@ -101,6 +102,24 @@ nlohmann::json spec_document_context(const std::filesystem::path& spec_file,
   ctx["spec_file"] = spec_file.filename().string();
   ctx["spec_sha256"] = spec_sha256;
   return ctx;
+}
+
+void set_spec_title(nlohmann::json& ctx, const SpecTitle& title) {
+  ctx["product"] = title.product;
+  ctx["kicker"] = title.kicker;
+  ctx["keywords"] = title.keywords;
+  ctx["setup_label"] = title.setup_label;
+  ctx["setup"] = title.setup;
+}
+
+std::string tooth_coefficients_text(const std::vector<double>& Kt_N_m2,
+                                    const std::vector<double>& Kr_N_m2) {
+  std::string k;
+  for (std::size_t p = 0; p < Kt_N_m2.size() && p < Kr_N_m2.size(); ++p) {
+    k += (p ? "; " : "") + std::string("tooth ") + std::to_string(p + 1) +
+         ": Kt = " + fmt_sig(Kt_N_m2[p], 4) + ", Kr = " + fmt_sig(Kr_N_m2[p], 4) + " N/m\u00b2";
+  }
+  return k;
 }
 
 void write_results_json(const std::filesystem::path& file, const nlohmann::json& results) {

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace chatterlab::app {
 
@@ -24,6 +25,22 @@ std::string utc_timestamp_iso();
 // spec_sha256.
 nlohmann::json spec_document_context(const std::filesystem::path& spec_file,
                                      const std::string& spec_sha256);
+
+// What templates/spec_title.mustache (the head and title page of the spec documents) needs
+// beside spec_document_context's keys and tool, modal, coefficients, cut, summary_line:
+// product ("stability lobes": the title), kicker, keywords, and the title page's fifth row.
+struct SpecTitle {
+  std::string product;
+  std::string kicker;
+  std::string keywords;
+  std::string setup_label;  // "Grid", "Model"
+  std::string setup;
+};
+void set_spec_title(nlohmann::json& ctx, const SpecTitle& title);
+
+// "tooth 1: Kt = 6e+08, Kr = 2e+08 N/m²; tooth 2: ..." (one entry per tooth, 4 digits).
+std::string tooth_coefficients_text(const std::vector<double>& Kt_N_m2,
+                                    const std::vector<double>& Kr_N_m2);
 
 // results.json as the spec commands write it: two-space indent, invalid UTF-8 replaced.
 void write_results_json(const std::filesystem::path& file, const nlohmann::json& results);

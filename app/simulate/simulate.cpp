@@ -273,23 +273,19 @@ int run_simulate(const std::filesystem::path& spec_file, const std::filesystem::
       "x: m = " + fmt_sig(spec.x.m_kg, 4) + " kg, c = " + fmt_sig(spec.x.c_kg_s, 4) +
       " kg/s, k = " + fmt_sig(spec.x.k_N_m, 4) + " N/m; y: m = " + fmt_sig(spec.y.m_kg, 4) +
       " kg, c = " + fmt_sig(spec.y.c_kg_s, 4) + " kg/s, k = " + fmt_sig(spec.y.k_N_m, 4) + " N/m";
-  std::string k;
-  for (std::size_t p = 0; p < spec.Kt_N_m2.size(); ++p) {
-    k += (p ? "; " : "") + std::string("tooth ") + std::to_string(p + 1) +
-         ": Kt = " + fmt_sig(spec.Kt_N_m2[p], 4) + ", Kr = " + fmt_sig(spec.Kr_N_m2[p], 4) +
-         " N/m\u00b2";
-  }
-  ctx["coefficients"] = k;
+  ctx["coefficients"] = tooth_coefficients_text(spec.Kt_N_m2, spec.Kr_N_m2);
   ctx["cut"] = spec.operation + ", " + fmt_sig(spec.spindle_rpm, 5) + " rpm, feed " +
                fmt_sig(spec.feed_per_tooth_m * kMToMm, 4) + " mm/tooth, radial immersion " +
                fmt_sig(spec.radial_immersion_m * kMToMm, 4) + " mm, depth " +
                fmt_sig(spec.depth_start_m * kMToMm, 3) + " to " +
                fmt_sig(grid.depth_end_m * kMToMm, 3) + " mm over " +
                std::to_string(grid.revolutions) + " revolutions";
-  ctx["model"] = spec.chip_model + " chip thickness (" + spec.switching +
-                 " switching), symplectic Euler (" + spec.euler_order + ") at " +
-                 std::to_string(spec.steps_per_tooth) + " steps per tooth pass" +
-                 (spec.inertial ? ", centrifugal and Coriolis forces" : "");
+  set_spec_title(
+      ctx,
+      {"simulation", "milling simulation", "milling simulation, bifurcation", "Model",
+       spec.chip_model + " chip thickness (" + spec.switching + " switching), symplectic Euler (" +
+           spec.euler_order + ") at " + std::to_string(spec.steps_per_tooth) +
+           " steps per tooth pass" + (spec.inertial ? ", centrifugal and Coriolis forces" : "")});
   std::string bif_text = "n/a";
   if (bif && bif->summary.ok()) {
     bif_text = bif->bifurcation_depth_m
