@@ -238,9 +238,13 @@ EkfResult run_modal(EstimatorId id, const MeasuredCut& cut, const CutChips& chip
     q[Model::kStiffness + w0] = o.q_stiffness;
   }
   if constexpr (kUnscented) {
-    // Physically scaled: sd = ukf_p0_relative_sd x the start value (ModalEkfOptions).
+    // Physically scaled: sd = ukf_p0_relative_sd x the start value (ModalEkfOptions). A start
+    // damping of 0 (allowed) would give c no spread and P0 no square root: its scale is then
+    // that of 1 % damping, 2 x 0.01 sqrt(k m), with the start (or held) m and k.
+    const double c_floor = 0.02 * std::sqrt(in.start.k_N_m * in.start.m_kg);
     for (int i = Model::kFirstParameter; i < Model::kStates; ++i) {
-      P0(i, i) = std::pow(o.ukf_p0_relative_sd * x0[i], 2);
+      const double scale = i == Model::kDamping ? std::max(x0[i], c_floor) : x0[i];
+      P0(i, i) = std::pow(o.ukf_p0_relative_sd * scale, 2);
     }
   }
   const std::vector<ToothCoefficients>& coefficients = in.coefficients;
@@ -308,9 +312,11 @@ EkfResult run_coeff_shared(EstimatorId id, const MeasuredCut& cut, const CutChip
 // tooth p's regressor, the other teeth's forces with the other filters' coefficients, and the
 // regenerative stiffness dF/dp = sum_q b g_q U(theta_q) K_q (sin theta_q, cos theta_q), with
 // U = [[-cos, -sin], [sin, -cos]] (F_q = b w_q U K_q, w_q = h sin + dx sin + dy cos).
+// `engaged`: the teeth in the cut (StepChips::engaged), for the per-tooth gate.
 template <class Filter>
 ForceInput feedback_input(const CutChips& chips, Eigen::Index k, const Eigen::VectorXd& est_x,
-                          const Eigen::VectorXd& est_y, const std::vector<Filter>& filters, int p) {
+                          const Eigen::VectorXd& est_y, const std::vector<Filter>& filters, int p,
+                          std::uint32_t* engaged) {
   constexpr int kKt = CoeffXyModel::kKt;
   const MeasuredCut& cut = chips.cut();
   const typename Filter::State& own = filters[static_cast<std::size_t>(p)].state();
@@ -322,6 +328,7 @@ ForceInput feedback_input(const CutChips& chips, Eigen::Index k, const Eigen::Ve
   m.x_delayed_m = chips.delayed(est_x, k);
   m.y_delayed_m = chips.delayed(est_y, k);
   const StepChips c = chips.model()(m);
+  *engaged = c.engaged;
   ForceInput u;
   u.position_m = Eigen::Vector2d(m.x_m, m.y_m);
   for (int q = 0; q < c.teeth; ++q) {
@@ -405,8 +412,9 @@ EkfResult run_coeff_per_tooth(EstimatorId id, const MeasuredCut& cut, const CutC
     if constexpr (kFeedback) {
       for (int p = 0; p < n; ++p) {
         const std::size_t i = static_cast<std::size_t>(p);
-        inputs[i] = feedback_input(chips, k, est_x[i], est_y[i], filters, p);
-        if (!inputs[i].regressor_m2.isZero(0.0)) engaged |= 1u << p;
+        std::uint32_t teeth_in_cut = 0;
+        inputs[i] = feedback_input(chips, k, est_x[i], est_y[i], filters, p, &teeth_in_cut);
+        engaged |= teeth_in_cut & (1u << p);  // tooth p in filter p's own chips
       }
     } else {
       const StepChips c = chips.chips(k);
