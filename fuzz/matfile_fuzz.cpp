@@ -11,9 +11,13 @@
 #include "fuzz/fuzz_common.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  // A reader process caught in a loop is killed after 5 s, inside libFuzzer's -timeout=10.
+  // An input starts up to four reader processes (two here, two in SignalTable::open): each
+  // one caught in a loop is killed after 2 s, so that all four stay inside libFuzzer's
+  // -timeout=10. A reply is cut at 256 MiB, well inside -rss_limit_mb=2048 (the reply string
+  // grows by doubling, and ASan keeps freed memory in quarantine).
   static const bool limited = [] {
-    chatterlab::app::mat::set_reader_time_limit(std::chrono::seconds(5));
+    chatterlab::app::mat::set_reader_time_limit(std::chrono::seconds(2));
+    chatterlab::app::mat::set_reader_reply_limit(std::size_t{256} << 20);
     return true;
   }();
   (void)limited;

@@ -2,10 +2,12 @@
 # Builds the libFuzzer targets of fuzz/ in build-fuzz/ (clang, ASan, UBSan) and runs each one
 # after the other, printing its executions and executions per second (docs/fuzzing.md).
 #
-#   scripts/fuzz.sh [-t seconds | -r runs] [-j jobs] [-b build] [target ...]
+#   scripts/fuzz.sh [-t seconds | -r runs] [-s seed] [-j jobs] [-b build] [target ...]
 #
 #   -t seconds  run each target for this long (-max_total_time; default 60)
 #   -r runs     run each target for this many inputs (-runs) instead
+#   -s seed     libFuzzer's -seed (default: a random one, printed in each log); the same seed
+#               from the same corpus replays the same inputs in the same order
 #   -j jobs     build parallelism (default 2)
 #   -b build    build folder (default build-fuzz; any clang build folder configured with
 #               the fuzz targets); configured here when absent
@@ -13,21 +15,26 @@
 #
 # Each target starts from its seed corpus fuzz/corpus/<target>/ (read only) and keeps what it
 # finds in <build>/fuzz-corpus/<target>/; crashes go to <build>/fuzz-artifacts/<target>/.
-# Runs under nice -n 19, one target at a time. Exit status 1 when a target failed.
+# Runs under nice -n 19, one target at a time. Exit status 1 when a target failed; then the
+# end of the output names the finding (libFuzzer's and the sanitizer's summary lines, the top
+# of the stack) and gives the saved input in base64, so that a failure in CI, whose build
+# folder is gone, can be replayed (docs/fuzzing.md, "When a run fails").
 set -euo pipefail
 
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="$root/build-fuzz"
 seconds=60
 runs=""
+seed=""
 jobs=2
-while getopts "t:r:j:b:h" opt; do
+while getopts "t:r:s:j:b:h" opt; do
   case "$opt" in
     t) seconds="$OPTARG" ;;
     r) runs="$OPTARG" ;;
+    s) seed="$OPTARG" ;;
     j) jobs="$OPTARG" ;;
     b) build="$(cd "$(dirname "$OPTARG")" && pwd)/$(basename "$OPTARG")" ;;
-    *) sed -n '2,17p' "$0"; exit 2 ;;
+    *) sed -n '2,23p' "$0"; exit 2 ;;
   esac
 done
 shift $((OPTIND - 1))
@@ -52,6 +59,8 @@ if [ -z "${TMPDIR:-}" ] && [ -d /dev/shm ] && [ -w /dev/shm ]; then export TMPDI
 
 status=0
 summary=()
+failures=()
+declare -A started
 for t in "${targets[@]}"; do
   work="$build/fuzz-corpus/$t"
   artifacts="$build/fuzz-artifacts/$t"
@@ -62,9 +71,11 @@ for t in "${targets[@]}"; do
   args=(-timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=1048576 -print_final_stats=1
     "-artifact_prefix=$artifacts/")
   if [ -n "$runs" ]; then args+=("-runs=$runs"); else args+=("-max_total_time=$seconds"); fi
+  if [ -n "$seed" ]; then args+=("-seed=$seed"); fi
   if [ -f "$root/fuzz/$t.dict" ]; then args+=("-dict=$root/fuzz/$t.dict"); fi
   log="$build/fuzz-$t.log"
   echo "== $t"
+  started[$t]=$(date +%s)
   if ASAN_OPTIONS="max_allocation_size_mb=2048${ASAN_OPTIONS:+:$ASAN_OPTIONS}" \
     LSAN_OPTIONS="suppressions=$root/fuzz/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}" \
     nice -n 19 "$build/fuzz/${t}_fuzz" "${args[@]}" "$work" "$root/fuzz/corpus/$t" >"$log" 2>&1; then
@@ -72,6 +83,7 @@ for t in "${targets[@]}"; do
   else
     result="FAILED (see $log and $artifacts/)"
     status=1
+    failures+=("$t")
   fi
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
@@ -81,4 +93,21 @@ for t in "${targets[@]}"; do
 done
 echo "== summary"
 printf '%s\n' "${summary[@]}"
+
+# What a failed target found. The log also holds the reports of the .mat reader processes
+# (contained failures, not findings): the target's own report is the last one in the log.
+for t in "${failures[@]}"; do
+  log="$build/fuzz-$t.log"
+  artifacts="$build/fuzz-artifacts/$t"
+  echo "== $t: the finding ($(sed -n 's/^INFO: Seed: //p' "$log" | head -1 | sed 's/^/seed /'))"
+  grep -E '^(==[0-9]+== ?ERROR|SUMMARY|MS:|artifact_prefix|Test unit written)|^ +#[0-4] ' "$log" |
+    tail -n 10 | cut -c1-300 || true
+  input=$(find "$artifacts" -type f -newermt "@${started[$t]}" -printf '%T@ %p\n' 2>/dev/null |
+    sort -n | tail -1 | cut -d' ' -f2-)
+  if [ -n "$input" ] && [ "$(stat -c %s "$input")" -le 4096 ]; then
+    echo "$t input $(basename "$input"), base64 (decode with base64 -d):"
+    base64 -w0 "$input"
+    echo
+  fi
+done
 exit $status

@@ -77,6 +77,12 @@ std::string from_reply(std::string reply, const IsolatedOptions& options) {
   ::_exit(write_all(fd, reply.data(), reply.size()) ? 0 : 3);
 }
 
+[[noreturn]] void throw_too_long(const IsolatedOptions& options) {
+  throw InputError(options.what + ": the reader process's reply passed " +
+                   std::to_string(options.max_reply_bytes) +
+                   " bytes; stopped (a damaged file declaring a huge array?)");
+}
+
 std::string signal_text(int sig) {
   const char* name = ::sigabbrev_np(sig);
   return "signal " + std::to_string(sig) + (name ? std::string(" (SIG") + name + ")" : "");
@@ -108,7 +114,11 @@ constexpr bool kForkOnlySingleThreaded = false;
 }  // namespace
 
 std::string run_isolated(const std::function<std::string()>& work, const IsolatedOptions& options) {
-  if (kForkOnlySingleThreaded && other_threads()) return from_reply(reply_of(work), options);
+  if (kForkOnlySingleThreaded && other_threads()) {
+    std::string reply = reply_of(work);
+    if (reply.size() > options.max_reply_bytes) throw_too_long(options);
+    return from_reply(std::move(reply), options);
+  }
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0) {
     throw InputError(options.what +
@@ -131,6 +141,7 @@ std::string run_isolated(const std::function<std::string()>& work, const Isolate
 
   std::string reply;
   bool timed_out = false;
+  bool too_long = false;  // the reply passed options.max_reply_bytes
   const auto deadline = std::chrono::steady_clock::now() + options.time_limit;
   char block[65536];
   for (;;) {
@@ -148,14 +159,19 @@ std::string run_isolated(const std::function<std::string()>& work, const Isolate
     const ssize_t n = ::read(fds[0], block, sizeof block);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) break;  // end of the reply (or a read error: judged by the exit status)
+    if (static_cast<std::size_t>(n) > options.max_reply_bytes - reply.size()) {
+      too_long = true;
+      break;
+    }
     reply.append(block, static_cast<std::size_t>(n));
   }
   ::close(fds[0]);
-  if (timed_out) ::kill(pid, SIGKILL);
+  if (timed_out || too_long) ::kill(pid, SIGKILL);
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
 
+  if (too_long) throw_too_long(options);
   if (timed_out) {
     char limit[32];
     std::snprintf(limit, sizeof limit, "%g", static_cast<double>(options.time_limit.count()) / 1e3);

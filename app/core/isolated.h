@@ -18,12 +18,18 @@ struct IsolatedOptions {
   std::string what;
   // The child is killed after this long (a parser caught in a loop).
   std::chrono::milliseconds time_limit{std::chrono::seconds(120)};
+  // The child is killed when its reply grows past this many bytes: a damaged file whose
+  // header declares a huge array (a v7.3 dataset stored as a fill value has no data to bound
+  // it) must not make this process hold the array. 4 GiB: 500 M doubles, beyond any record
+  // the program reads.
+  std::size_t max_reply_bytes = std::size_t{4} << 30;
 };
 
 // Calls work() in a child process and returns the bytes it returned. An InputError thrown by
 // work() is thrown again here with its message; any other exception becomes an InputError
 // with `what` and its message. A child that dies (a signal, a sanitizer report), exits without
-// a reply, or outlives the time limit gives an InputError naming `what` and how it ended.
+// a reply, outlives the time limit or replies more than max_reply_bytes gives an InputError
+// naming `what` and how it ended.
 // The caller must hold whatever locks work() needs: the child has only the calling thread,
 // and must not take a lock another thread may have held at the fork. In a build with GCC's
 // AddressSanitizer (make sanitize), whose allocator is not fork-safe, work() runs in this

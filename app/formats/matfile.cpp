@@ -390,11 +390,13 @@ void check_header(const std::filesystem::path& file) {
 }
 
 std::atomic<std::chrono::milliseconds::rep> reader_time_limit_ms{120000};
+std::atomic<std::size_t> reader_reply_limit{IsolatedOptions{}.max_reply_bytes};
 
 IsolatedOptions isolated(const std::filesystem::path& file) {
   IsolatedOptions o;
   o.what = file.string() + ": reading this .mat file";
   o.time_limit = std::chrono::milliseconds(reader_time_limit_ms.load());
+  o.max_reply_bytes = reader_reply_limit.load();
   return o;
 }
 
@@ -490,6 +492,8 @@ Eigen::VectorXd read_vector(const std::filesystem::path& file, const std::string
 void set_reader_time_limit(std::chrono::milliseconds limit) {
   reader_time_limit_ms = limit.count();
 }
+
+void set_reader_reply_limit(std::size_t bytes) { reader_reply_limit = bytes; }
 
 bool v73_supported() {
   const std::lock_guard<std::recursive_mutex> lock(matio_mutex);

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <chrono>
+#include <cstddef>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -44,6 +45,12 @@ std::vector<Eigen::MatrixXd> read_matrices(const std::filesystem::path& file,
 // (default 120 s). The fuzz target sets it below libFuzzer's own time limit, so that a library
 // caught in a loop is a contained failure there too.
 void set_reader_time_limit(std::chrono::milliseconds limit);
+
+// How many bytes a reader process may send back before it is killed and the read is an
+// InputError (default 4 GiB, IsolatedOptions::max_reply_bytes). The fuzz target lowers it, so
+// that a damaged file declaring a huge array does not take the target past libFuzzer's memory
+// limit.
+void set_reader_reply_limit(std::size_t bytes);
 
 enum class Version { kV5, kV73 };
 

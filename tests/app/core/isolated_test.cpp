@@ -114,6 +114,18 @@ TEST(Isolated, AChildPastItsTimeLimitIsKilled) {
   EXPECT_EQ(msg, "h.mat: reading: not finished after 0.3 s; stopped (a damaged file?)");
 }
 
+// A reply may reach max_reply_bytes exactly; one byte more and the child is stopped.
+TEST(Isolated, AReplyPastTheLimitIsStopped) {
+  IsolatedOptions o = named("k.mat: reading");
+  o.max_reply_bytes = 1 << 20;
+  const std::size_t payload = o.max_reply_bytes - 1;  // plus the status byte: the limit exactly
+  EXPECT_EQ(run_isolated([&] { return std::string(payload, 'a'); }, o).size(), payload);
+  const std::string msg = message_of([&] { return std::string(payload + 1, 'a'); }, o);
+  EXPECT_EQ(msg,
+            "k.mat: reading: the reader process's reply passed 1048576 bytes; stopped (a "
+            "damaged file declaring a huge array?)");
+}
+
 TEST(Isolated, BytesRoundTripAndAShortReplyIsAnError) {
   ByteWriter w;
   w.u64(42);

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "analysis/common/summary.h"
+#include "app/core/isolated.h"
 #include "app/formats/matfile.h"
 #include "tests/support/temp_campaign.h"
 
@@ -252,6 +253,28 @@ TEST(MatfileV73, ReaderTimeLimitReachesTheReaderProcess) {
                    ": reading this .mat file: not finished after 0 s; stopped (a "
                    "damaged file?)");
   EXPECT_EQ(numeric_variables(file).size(), 1u);
+}
+
+// set_reader_reply_limit: a read whose reply passes the limit is stopped (the fuzz target's
+// guard against a damaged file declaring a huge array; 256 MiB there). A 1,000-sample vector
+// is 8,000 bytes of reply (plus 16 of dimensions): refused under 4,096 bytes, read at the
+// default.
+TEST(MatfileV73, ReaderReplyLimitStopsALargeReply) {
+  const TempDir dir;
+  const auto file = dir.path() / "v5.mat";
+  write_mat(file, {{"v", Eigen::VectorXd::LinSpaced(1000, 0.0, 1.0)}});
+  set_reader_reply_limit(4096);
+  std::string e;
+  try {
+    read_vector(file, "v");
+  } catch (const InputError& x) {
+    e = x.what();
+  }
+  set_reader_reply_limit(IsolatedOptions{}.max_reply_bytes);
+  EXPECT_EQ(e, file.string() +
+                   ": reading this .mat file: the reader process's reply passed 4096 bytes; "
+                   "stopped (a damaged file declaring a huge array?)");
+  EXPECT_EQ(read_vector(file, "v").size(), 1000);
 }
 
 }  // namespace
