@@ -2,19 +2,21 @@
 # Builds the libFuzzer targets of fuzz/ in build-fuzz/ (clang, ASan, UBSan) and runs each one
 # after the other, printing its executions and executions per second (docs/fuzzing.md).
 #
-#   scripts/fuzz.sh [-t seconds | -r runs] [-s seed] [-j jobs] [-b build] [target ...]
+#   scripts/fuzz.sh [-t seconds | -r runs] [-s seed] [-f] [-j jobs] [-b build] [target ...]
 #
 #   -t seconds  run each target for this long (-max_total_time; default 60)
 #   -r runs     run each target for this many inputs (-runs) instead
 #   -s seed     libFuzzer's -seed (default: a random one, printed in each log); the same seed
 #               from the same corpus replays the same inputs in the same order
+#   -f          from the seed corpus alone, as a fresh clone (CI) runs: the work folder is
+#               <build>/fuzz-smoke-corpus/<target>/, emptied first
 #   -j jobs     build parallelism (default 2)
 #   -b build    build folder (default build-fuzz; any clang build folder configured with
 #               the fuzz targets); configured here when absent
 #   target      campaign test_yaml signals uff58 frf_text matfile (default: all)
 #
 # Each target starts from its seed corpus fuzz/corpus/<target>/ (read only) and keeps what it
-# finds in <build>/fuzz-corpus/<target>/; crashes go to <build>/fuzz-artifacts/<target>/.
+# finds in <build>/fuzz-corpus/<target>/ (with -f: see above); crashes go to <build>/fuzz-artifacts/<target>/.
 # Runs under nice -n 19, one target at a time. Exit status 1 when a target failed; then the
 # end of the output names the finding (libFuzzer's and the sanitizer's summary lines, the top
 # of the stack) and gives the saved input in base64, so that a failure in CI, whose build
@@ -26,15 +28,17 @@ build="$root/build-fuzz"
 seconds=60
 runs=""
 seed=""
+fresh=""
 jobs=2
-while getopts "t:r:s:j:b:h" opt; do
+while getopts "t:r:s:fj:b:h" opt; do
   case "$opt" in
     t) seconds="$OPTARG" ;;
     r) runs="$OPTARG" ;;
     s) seed="$OPTARG" ;;
+    f) fresh=1 ;;
     j) jobs="$OPTARG" ;;
     b) build="$(cd "$(dirname "$OPTARG")" && pwd)/$(basename "$OPTARG")" ;;
-    *) sed -n '2,23p' "$0"; exit 2 ;;
+    *) sed -n '2,24p' "$0"; exit 2 ;;
   esac
 done
 shift $((OPTIND - 1))
@@ -63,6 +67,10 @@ failures=()
 declare -A started
 for t in "${targets[@]}"; do
   work="$build/fuzz-corpus/$t"
+  if [ -n "$fresh" ]; then
+    work="$build/fuzz-smoke-corpus/$t"
+    rm -rf "$work"
+  fi
   artifacts="$build/fuzz-artifacts/$t"
   mkdir -p "$work" "$artifacts"
   # An allocation above 2 GB is a finding through ASan (max_allocation_size_mb) rather than
@@ -100,11 +108,16 @@ for t in "${failures[@]}"; do
   log="$build/fuzz-$t.log"
   artifacts="$build/fuzz-artifacts/$t"
   echo "== $t: the finding ($(sed -n 's/^INFO: Seed: //p' "$log" | head -1 | sed 's/^/seed /'))"
-  grep -E '^(==[0-9]+== ?ERROR|SUMMARY|MS:|artifact_prefix|Test unit written)|^ +#[0-4] ' "$log" |
-    tail -n 10 | cut -c1-300 || true
-  input=$(find "$artifacts" -type f -newermt "@${started[$t]}" -printf '%T@ %p\n' 2>/dev/null |
-    sort -n | tail -1 | cut -d' ' -f2-)
-  if [ -n "$input" ] && [ "$(stat -c %s "$input")" -le 4096 ]; then
+  # From a few lines before the last report's ERROR line (an uncaught exception's "terminate
+  # called" and "what()" come just before libFuzzer's "deadly signal"): the report's key lines,
+  # the top of the stack and libFuzzer's lines about the input.
+  last=$( (grep -nE 'ERROR|runtime error:' "$log" | tail -1 | cut -d: -f1) || true)
+  { tail -n +$((${last:-1} > 8 ? ${last:-1} - 8 : 1)) "$log" |
+    grep -E 'ERROR|runtime error:|terminate called|what\(\)|SUMMARY|^MS:|Test unit written|^ +#[0-4] ' |
+    head -n 16 | cut -c1-300; } || true
+  input=$( (find "$artifacts" -type f -newermt "@${started[$t]}" -printf '%T@ %p\n' 2>/dev/null |
+    sort -n | tail -1 | cut -d' ' -f2-) || true)
+  if [ -n "$input" ] && [ "$(stat -c %s "$input")" -le 65536 ]; then
     echo "$t input $(basename "$input"), base64 (decode with base64 -d):"
     base64 -w0 "$input"
     echo
