@@ -16,7 +16,8 @@
 #   target      campaign test_yaml signals uff58 frf_text matfile (default: all)
 #
 # Each target starts from its seed corpus fuzz/corpus/<target>/ (read only) and keeps what it
-# finds in <build>/fuzz-corpus/<target>/ (with -f: see above); crashes go to <build>/fuzz-artifacts/<target>/.
+# finds in <build>/fuzz-corpus/<target>/ (with -f: see above); crashes go to
+# <build>/fuzz-artifacts/<target>/.
 # Runs under nice -n 19, one target at a time. Exit status 1 when a target failed; then the
 # end of the output names the finding (libFuzzer's and the sanitizer's summary lines, the top
 # of the stack) and gives the saved input in base64, so that a failure in CI, whose build
