@@ -53,46 +53,66 @@ double median_of(Eigen::VectorXd v) {
                              v[static_cast<Eigen::Index>(n / 2)]);
 }
 
-// The r eigenpairs of largest |lambda| of the symmetric matrix H (overwritten), all eigenvalues
-// returned in `all` (any order). Columns of U in order of descending |lambda|.
-void symmetric_top_eigenpairs(Eigen::MatrixXd* H, int r, Eigen::VectorXd* all,
+// The r eigenpairs of largest |lambda| of the symmetric matrix H, all eigenvalues returned in
+// `all` (ascending). Columns of U in order of descending |lambda|.
+void symmetric_top_eigenpairs(const Eigen::MatrixXd& H, int r, Eigen::VectorXd* all,
                               Eigen::VectorXd* lambda, Eigen::MatrixXd* U) {
-  const int n = static_cast<int>(H->rows());
+  const int n = static_cast<int>(H.rows());
   Eigen::Tridiagonalization<Eigen::MatrixXd> tri(n);
-  tri.compute(*H);
+  tri.compute(H);
   Eigen::VectorXd d = tri.diagonal();
   Eigen::VectorXd e = tri.subDiagonal();
   e.conservativeResize(std::max(n - 1, 1));
-  // All eigenvalues by bisection, ordered by split block and ascending within (what dstein
-  // needs), with the split points.
-  const double zero = 0.0;
-  const int izero = 0;
-  int m = 0;
-  int nsplit = 0;
-  Eigen::VectorXd w(n);
-  std::vector<int> iblock(static_cast<std::size_t>(n)), isplit(static_cast<std::size_t>(n));
-  Eigen::VectorXd work(4 * n);
-  std::vector<int> iwork(static_cast<std::size_t>(3 * n));
-  int info = 0;
-  dstebz_("A", "B", &n, &zero, &zero, &izero, &izero, &zero, d.data(), e.data(), &m, &nsplit,
-          w.data(), iblock.data(), isplit.data(), work.data(), iwork.data(), &info, 1, 1);
-  if (info != 0 || m != n) {
-    throw std::runtime_error("LAPACK dstebz failed (info " + std::to_string(info) + ")");
+  // All eigenvalues by implicit QR on the tridiagonal matrix (values only: milliseconds);
+  // the r of largest magnitude are the k_neg lowest and k_pos highest. Those are refined by
+  // bisection (dstebz, by index), which also gives the split blocks dstein needs: their
+  // eigenvalues grouped by block, ascending within each.
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> values;
+  values.computeFromTridiagonal(d, e.head(n - 1), Eigen::EigenvaluesOnly);
+  if (values.info() != Eigen::Success) {
+    throw std::runtime_error("the tridiagonal eigenvalue iteration did not converge");
   }
-  *all = w;
-  std::vector<int> by_size(static_cast<std::size_t>(n));
-  std::iota(by_size.begin(), by_size.end(), 0);
-  std::stable_sort(by_size.begin(), by_size.end(),
-                   [&](int a, int b) { return std::abs(w[a]) > std::abs(w[b]); });
-  std::vector<int> chosen(by_size.begin(), by_size.begin() + r);
-  std::sort(chosen.begin(), chosen.end());  // keeps dstebz's block/ascending order
+  *all = values.eigenvalues();  // ascending
+  int lo = 0;
+  int hi = n - 1;
+  for (int k = 0; k < r; ++k) {
+    if (std::abs((*all)[lo]) > std::abs((*all)[hi])) {
+      ++lo;
+    } else {
+      --hi;
+    }
+  }
+  const int k_neg = lo;
+  const int k_pos = n - 1 - hi;
+  const double zero = 0.0;
+  std::vector<std::pair<int, double>> picked;  // (block, eigenvalue)
+  std::vector<int> isplit(static_cast<std::size_t>(n));
+  const auto bisect = [&](int il, int iu) {
+    int m = 0;
+    int nsplit = 0;
+    int info = 0;
+    Eigen::VectorXd w(n);
+    std::vector<int> iblock(static_cast<std::size_t>(n));
+    Eigen::VectorXd work(4 * n);
+    std::vector<int> iwork(static_cast<std::size_t>(3 * n));
+    dstebz_("I", "B", &n, &zero, &zero, &il, &iu, &zero, d.data(), e.data(), &m, &nsplit,
+            w.data(), iblock.data(), isplit.data(), work.data(), iwork.data(), &info, 1, 1);
+    if (info != 0) {
+      throw std::runtime_error("LAPACK dstebz failed (info " + std::to_string(info) + ")");
+    }
+    for (int k = 0; k < m; ++k) picked.emplace_back(iblock[static_cast<std::size_t>(k)], w[k]);
+  };
+  if (k_neg > 0) bisect(1, k_neg);
+  if (k_pos > 0) bisect(n - k_pos + 1, n);
+  std::sort(picked.begin(), picked.end());
+  r = static_cast<int>(picked.size());
   Eigen::VectorXd wsel(r);
   std::vector<int> bsel(static_cast<std::size_t>(r));
   for (int k = 0; k < r; ++k) {
-    wsel[k] = w[chosen[static_cast<std::size_t>(k)]];
-    bsel[static_cast<std::size_t>(k)] =
-        iblock[static_cast<std::size_t>(chosen[static_cast<std::size_t>(k)])];
+    bsel[static_cast<std::size_t>(k)] = picked[static_cast<std::size_t>(k)].first;
+    wsel[k] = picked[static_cast<std::size_t>(k)].second;
   }
+  int info = 0;
   Eigen::MatrixXd Z(n, r);
   Eigen::VectorXd work2(5 * n);
   std::vector<int> iwork2(static_cast<std::size_t>(n)), ifail(static_cast<std::size_t>(r));
@@ -197,13 +217,12 @@ EraRealization era_realize(const Eigen::Ref<const Eigen::VectorXd>& y, double ra
   for (int j = 0; j < alpha; ++j) H.col(j) = y.segment(j + 1, alpha);
   const auto t0 = Clock::now();
   // All eigenvalues first (for the threshold); then the vectors of the kept ones.
-  Eigen::MatrixXd H_work = H;
   Eigen::VectorXd all;
   Eigen::VectorXd lambda;
   Eigen::MatrixXd U;
   // The order is not known before the eigenvalues are; ask for the cap and keep the first r.
   const int want = std::min(options.max_order, alpha - 1);
-  symmetric_top_eigenpairs(&H_work, want, &all, &lambda, &U);
+  symmetric_top_eigenpairs(H, want, &all, &lambda, &U);
   out.svd_s = seconds_since(t0);
   out.singular_values = all.cwiseAbs();
   std::sort(out.singular_values.data(), out.singular_values.data() + alpha, std::greater<double>());
@@ -217,7 +236,7 @@ EraRealization era_realize(const Eigen::Ref<const Eigen::VectorXd>& y, double ra
   int r = 0;
   while (r < alpha && out.singular_values[r] > out.threshold) ++r;
   out.order_by_threshold = r;
-  r = std::min(r, want);
+  r = std::min({r, want, static_cast<int>(lambda.size())});
   if (r == 0) {
     std::ostringstream m;
     m << "ERA kept no state: the largest singular value " << s1 << " is not above the threshold "

@@ -4,6 +4,7 @@
 #include "app/kinds/grinding/grinding_kind.h"
 #include "app/kinds/lobes/lobes_group.h"
 #include "app/kinds/sifs/sifs_kinds.h"
+#include "app/kinds/sysid/sysid_kinds.h"
 #include "app/kinds/tap/tap_kind.h"
 #include "app/pipeline/registry.h"
 
@@ -21,6 +22,7 @@ void register_builtin_kinds(KindRegistry& r) {
   r.add(std::make_unique<SifsTapKind>());
   r.add(std::make_unique<SifsCutKind>());
   r.add(std::make_unique<SifsCutGroup>());
+  r.add(std::make_unique<FrfKind>());
 }
 
 }  // namespace chatterlab::app
