@@ -95,8 +95,8 @@ void symmetric_top_eigenpairs(const Eigen::MatrixXd& H, int r, Eigen::VectorXd* 
     std::vector<int> iblock(static_cast<std::size_t>(n));
     Eigen::VectorXd work(4 * n);
     std::vector<int> iwork(static_cast<std::size_t>(3 * n));
-    dstebz_("I", "B", &n, &zero, &zero, &il, &iu, &zero, d.data(), e.data(), &m, &nsplit,
-            w.data(), iblock.data(), isplit.data(), work.data(), iwork.data(), &info, 1, 1);
+    dstebz_("I", "B", &n, &zero, &zero, &il, &iu, &zero, d.data(), e.data(), &m, &nsplit, w.data(),
+            iblock.data(), isplit.data(), work.data(), iwork.data(), &info, 1, 1);
     if (info != 0) {
       throw std::runtime_error("LAPACK dstebz failed (info " + std::to_string(info) + ")");
     }
@@ -138,8 +138,8 @@ void symmetric_top_eigenpairs(const Eigen::MatrixXd& H, int r, Eigen::VectorXd* 
 }  // namespace
 
 Eigen::VectorXd markov_parameters_from_frf(const Eigen::Ref<const Eigen::VectorXd>& f,
-                                           const Eigen::Ref<const Eigen::VectorXcd>& G,
-                                           double rate) {
+                                           const Eigen::Ref<const Eigen::VectorXcd>& G, double rate,
+                                           double grid_step_hz) {
   require_rule(std::isfinite(rate) && rate > 0.0, "sample_rate_hz", rate, "must be finite and > 0");
   const Eigen::Index n = f.size();
   require_rule(n >= 2, "freq_hz", std::to_string(n) + " points", "needs at least 2 points");
@@ -153,19 +153,31 @@ Eigen::VectorXd markov_parameters_from_frf(const Eigen::Ref<const Eigen::VectorX
   require_rule(f[0] >= 0.0, "freq_hz", f[0], "the first frequency must be >= 0");
   require_rule(f[n - 1] <= nyquist * (1.0 + 1e-12), "freq_hz", f[n - 1],
                "the last frequency must be <= sample_rate_hz / 2 = " + std::to_string(nyquist));
-  const double df = (f[n - 1] - f[0]) / static_cast<double>(n - 1);
-  require_rule(df > 0.0, "freq_hz", f[n - 1], "must rise");
-  // The reference step is the median step, so that the message names the odd point.
-  Eigen::VectorXd steps = f.tail(n - 1) - f.head(n - 1);
-  std::sort(steps.data(), steps.data() + steps.size());
-  const double typical = steps[steps.size() / 2];
-  for (Eigen::Index i = 1; i < n; ++i) {
-    const double step = f[i] - f[i - 1];
-    if (!(std::abs(step - typical) <= 1e-3 * typical)) {
-      std::ostringstream m;
-      m << "freq_hz = " << f[i] << " after " << f[i - 1]
-        << ": the step must be uniform (within 0.1 % of the typical step " << typical << " Hz)";
-      throw InputError(m.str());
+  double df = grid_step_hz;
+  if (std::isnan(grid_step_hz)) {
+    df = (f[n - 1] - f[0]) / static_cast<double>(n - 1);
+    require_rule(df > 0.0, "freq_hz", f[n - 1], "must rise");
+    // The reference step is the median step, so that the message names the odd point.
+    Eigen::VectorXd steps = f.tail(n - 1) - f.head(n - 1);
+    std::sort(steps.data(), steps.data() + steps.size());
+    const double typical = steps[steps.size() / 2];
+    for (Eigen::Index i = 1; i < n; ++i) {
+      const double step = f[i] - f[i - 1];
+      if (!(std::abs(step - typical) <= 1e-3 * typical)) {
+        std::ostringstream m;
+        m << "freq_hz = " << f[i] << " after " << f[i - 1]
+          << ": the step must be uniform (within 0.1 % of the typical step " << typical << " Hz)";
+        throw InputError(m.str());
+      }
+    }
+  } else {
+    require_rule(std::isfinite(df) && df > 0.0, "grid step", df, "must be > 0");
+    for (Eigen::Index i = 1; i < n; ++i) {
+      if (!(f[i] > f[i - 1])) {
+        std::ostringstream m;
+        m << "freq_hz = " << f[i] << " after " << f[i - 1] << ": the frequencies must rise";
+        throw InputError(m.str());
+      }
     }
   }
   const long M = std::lround(rate / (2.0 * df));
@@ -175,15 +187,13 @@ Eigen::VectorXd markov_parameters_from_frf(const Eigen::Ref<const Eigen::VectorX
   const Eigen::Index N = 2 * M;
   Eigen::VectorXcd X(M + 1);
   const double f_last = f[n - 1];
+  Eigen::Index i = 0;  // f[i] <= fm < f[i + 1] while fm is inside the data (fm rises)
   for (long m = 0; m <= M; ++m) {
     const double fm = static_cast<double>(m) * rate / static_cast<double>(N);
     std::complex<double> v;
     if (fm <= f[0]) {
       v = G[0];
     } else if (fm <= f_last) {
-      // Uniform grid: the interval from the step, then corrected for the 0.1 % tolerance.
-      Eigen::Index i = std::min<Eigen::Index>(n - 2, static_cast<Eigen::Index>((fm - f[0]) / df));
-      while (i > 0 && f[i] > fm) --i;
       while (i < n - 2 && f[i + 1] < fm) ++i;
       const double t = (fm - f[i]) / (f[i + 1] - f[i]);
       v = G[i] + t * (G[i + 1] - G[i]);
@@ -369,7 +379,7 @@ EraResult era_identify(const Eigen::Ref<const Eigen::VectorXd>& f_hz,
   EraResult out;
   const auto t0 = Clock::now();
   try {
-    const Eigen::VectorXd y = markov_parameters_from_frf(f_hz, G, rate);
+    const Eigen::VectorXd y = markov_parameters_from_frf(f_hz, G, rate, options.grid_step_hz);
     out.markov_length = static_cast<int>(y.size());
     out.realization = era_realize(y, rate, options);
     if (!out.realization.summary.ok()) {

@@ -56,14 +56,20 @@ struct EraOptions {
   // the known-noise threshold lambda*(1) sqrt(alpha) sigma replaces the median rule. NaN:
   // unknown.
   double markov_noise_std = std::numeric_limits<double>::quiet_NaN();
+  // The grid step of step 1 for data that is not uniform (markov_parameters_from_frf); NaN:
+  // the data's own uniform step.
+  double grid_step_hz = std::numeric_limits<double>::quiet_NaN();
 };
 
-// Steps 1-2. @param f_hz rising on a uniform step df (each step within 0.1 % of the mean
+// Steps 1-2. @param f_hz rising on a uniform step df (each step within 0.1 % of the median
 // step), f_0 >= 0, f_last <= rate/2, at least 2 points; @param G the FRF at f_hz.
+// @param grid_step_hz NaN: df is the mean step of uniform data (checked). Given: the points
+// need only rise (a sweep FRF's band with its 0 Hz point, kind sweep-frf), and M = round(rate
+// / (2 grid_step_hz)).
 // @throws InputError naming freq_hz (and the rule) or the rate.
-Eigen::VectorXd markov_parameters_from_frf(const Eigen::Ref<const Eigen::VectorXd>& f_hz,
-                                           const Eigen::Ref<const Eigen::VectorXcd>& G,
-                                           double sample_rate_hz);
+Eigen::VectorXd markov_parameters_from_frf(
+    const Eigen::Ref<const Eigen::VectorXd>& f_hz, const Eigen::Ref<const Eigen::VectorXcd>& G,
+    double sample_rate_hz, double grid_step_hz = std::numeric_limits<double>::quiet_NaN());
 
 // Steps 3-5: the full-order realization, stable or not.
 struct EraRealization {

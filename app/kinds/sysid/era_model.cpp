@@ -210,8 +210,11 @@ render::Figure era_singular_value_figure(const EraModelResult& m) {
   a.series = {{idx, sv, "singular values", render::SeriesStyle::kPoints, "#0072B2"},
               {kept_x, kept_y, "kept (order " + std::to_string(r.model.order()) + ")",
                render::SeriesStyle::kPoints, "#D55E00"},
-              {{1.0, last}, {r.threshold, r.threshold}, "Gavish-Donoho threshold",
-               render::SeriesStyle::kDashedLine, "#555555"}};
+              {{1.0, last},
+               {r.threshold, r.threshold},
+               "Gavish-Donoho threshold",
+               render::SeriesStyle::kDashedLine,
+               "#555555"}};
   return fig;
 }
 

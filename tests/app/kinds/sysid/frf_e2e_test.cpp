@@ -126,8 +126,8 @@ TEST_F(FrfCampaign, RealizesTheWrittenSystem) {
   for (Eigen::Index i = 0; i < p.size(); ++i) {
     double best = 1e300;
     for (const auto& z : m.at("poles_z")) {
-      best = std::min(best, std::abs(p[i] - std::complex<double>(z[0].get<double>(),
-                                                                   z[1].get<double>())));
+      best = std::min(
+          best, std::abs(p[i] - std::complex<double>(z[0].get<double>(), z[1].get<double>())));
     }
     EXPECT_LT(best, 1e-7) << p[i];
   }
