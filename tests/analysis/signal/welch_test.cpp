@@ -24,8 +24,8 @@ Eigen::VectorXd white(Eigen::Index n, std::uint64_t seed, double sigma = 1.0) {
 // x[k] = 0.5 r[k] + 0.3 r[k-1] - 0.2 r[k-2]: H1 = S_rx / S_rr is the filter's FRF
 // H(f) = 0.5 + 0.3 z^-1 - 0.2 z^-2, z = exp(j 2 pi f / fs) (reference; tolerance 1 % of |H|:
 // the leakage of a 3-tap filter through a 512-sample Hann window, and the variance of 390
-// segments), and the coherence is 1 within 1e-3 (the filter's two-sample memory crosses each
-// segment's edges, where the window is small: measured 1.2e-4 at worst).
+// segments), and the coherence is 1 within 1e-3 where |H| > 0.2 (the filter's two-sample memory
+// crosses each segment's edges; that leakage is relative to |H|, which is 0 at 500 Hz).
 TEST(Welch, H1OfAFilterAndItsPhaseConvention) {
   const double fs = 1000.0;
   const Eigen::VectorXd r = white(100000, 1);
@@ -43,7 +43,9 @@ TEST(Welch, H1OfAFilterAndItsPhaseConvention) {
     const std::complex<double> H1 = s.S_rx[0][k] / s.S_rr[k];
     EXPECT_LT(std::abs(H1 - H), 0.01 * std::abs(H)) << s.f_hz[k];
     const double coh = std::norm(s.S_rx[0][k]) / (s.S_rr[k] * s.S_xx[0][k]);
-    EXPECT_NEAR(coh, 1.0, 1e-3);
+    if (std::abs(H) > 0.2) {
+      EXPECT_NEAR(coh, 1.0, 1e-3) << s.f_hz[k];
+    }
   }
 }
 
