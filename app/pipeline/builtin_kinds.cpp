@@ -23,6 +23,7 @@ void register_builtin_kinds(KindRegistry& r) {
   r.add(std::make_unique<SifsCutKind>());
   r.add(std::make_unique<SifsCutGroup>());
   r.add(std::make_unique<FrfKind>());
+  r.add(std::make_unique<SweepFrfKind>());
 }
 
 }  // namespace chatterlab::app

@@ -64,6 +64,64 @@ class FrfKind : public TestKind {
                      TruthComparison& c) const override;
 };
 
+// ---- sweep-frf -----------------------------------------------------------------------------
+struct SweepFrfSpec : KindSpec {
+  double spindle_rpm = 0.0;
+  double band_lo_hz = 0.0, band_hi_hz = 0.0;
+  double torque_constant_Nm_per_A = 0.0;
+  int segment_samples = 4096;
+  int era_max_order = 40;
+};
+// The loop FRFs of 001 eqs 3.4-3.6 and 3.9 on the Welch grid, every one an H1-type ratio of
+// cross-spectra against the speed command (sweep_frf_kind.cpp).
+struct SweepFrfs {
+  Eigen::VectorXd f_hz;
+  Eigen::VectorXcd G_o, G_loop, G_s, G_dtau;
+  // Coherence of speed, current and current_act with the speed command.
+  Eigen::VectorXd coh_speed, coh_current, coh_current_act;
+  int segments = 0;
+  Eigen::Index band_begin = 0, band_end = 0;  // [begin, end) of the bins inside sweep_band_hz
+};
+struct SweepFrfResult : KindResult {
+  SweepFrfs frfs;
+  EraModelResult model;
+  double min_coherence_in_band = 0.0;  // of the three channels
+};
+
+// The FRFs of a sweep record: Welch cross-spectra S_rx = E[conj(R) X] of speed_ref r against
+// e = r - speed, speed, current and current_act; G_o = S_r,speed / S_r,e, G_loop =
+// S_r,speed / S_r,current, G_s = S_r,speed / S_r,current_act and G_dtau = S_r,speed S_r,current
+// / (Kt S_r,current_act S_rr) (= G_s (G_o / G_loop) / (Kt (1 + G_o)), 001 eqs 3.7-3.9).
+// @throws InputError (segment, lengths, non-finite samples)
+SweepFrfs sweep_frfs(const Eigen::VectorXd& speed_ref, const Eigen::VectorXd& speed,
+                     const Eigen::VectorXd& current, const Eigen::VectorXd& current_act,
+                     double fs_hz, int segment, double Kt, double band_lo_hz, double band_hi_hz);
+
+class SweepFrfKind : public TestKind {
+ public:
+  std::string name() const override { return "sweep-frf"; }
+  std::vector<std::string> keys() const override;
+  std::shared_ptr<const KindSpec> parse(const YAML::Node& root, YamlReader& r) const override;
+  std::vector<std::string> required_channels(const TestSpec&) const override;
+  std::vector<std::string> check_record(const TestSpec& t, double duration_s) const override;
+  std::vector<std::string> provides(const TestSpec& t) const override;
+  std::string describe_value(const std::string& name) const override;
+  void run(const TestSpec& t, const CampaignValues& in, const RunContext& ctx,
+           TestOutcome& out) const override;
+  void publish(const TestOutcome& out, CampaignValues& values) const override;
+  nlohmann::json results(const TestOutcome& out) const override;
+  std::string note(const TestOutcome& out) const override;
+  void figures(const CampaignResults&, const TestOutcome& out, FigureJobs& jobs) const override;
+  nlohmann::json report_section(const CampaignResults& r,
+                                const std::vector<const TestOutcome*>& ok_tests,
+                                const FigureSet& figures) const override;
+  void compare_truth(const TruthInput& in, const TestOutcome& out,
+                     TruthComparison& c) const override;
+};
+
+// The three loop FRFs (magnitude) and the coherences of a sweep.
+render::Figure sweep_loop_figure(const SweepFrfResult& r);
+
 // ---- shared by frf and sweep-frf (era_model.cpp) -----------------------------------------
 // Runs ERA on (f, G) and fills `out` (status, warnings, result) for test `t`.
 EraModelResult run_era_model(const TestSpec& t, const Eigen::VectorXd& f_hz,
