@@ -24,6 +24,7 @@ void register_builtin_kinds(KindRegistry& r) {
   r.add(std::make_unique<SifsCutGroup>());
   r.add(std::make_unique<FrfKind>());
   r.add(std::make_unique<SweepFrfKind>());
+  r.add(std::make_unique<SpindleCurrentKind>());
 }
 
 }  // namespace chatterlab::app

@@ -5,11 +5,14 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "analysis/sysid/era.h"
+#include "analysis/sysid/torque_observer.h"
 #include "app/pipeline/kind.h"
 #include "render/figure.h"
 
@@ -121,6 +124,67 @@ class SweepFrfKind : public TestKind {
 
 // The three loop FRFs (magnitude) and the coherences of a sweep.
 render::Figure sweep_loop_figure(const SweepFrfResult& r);
+
+// ---- spindle-current -----------------------------------------------------------------------
+struct SpindleCurrentSpec : KindSpec {
+  double current_resolution_A = 0.0;
+  std::string model;  // a frf or sweep-frf test id
+  double spindle_rpm = 0.0;
+  bool up_milling = true;
+  double radial_immersion_m = 0.0, axial_depth_m = 0.0, feed_per_tooth_m = 0.0;
+  double Ktc_N_m2 = 0.0, Kte_N_m = 0.0;
+  double air_lo_s = 0.0, air_hi_s = 0.0, cut_lo_s = 0.0, cut_hi_s = 0.0;
+  std::string dyno_file;  // as written; empty: no dynamometer
+  double dyno_rate_hz = 0.0;
+  // Beyond the contract: manual overrides of the automatic tuning (001 sec. 4.3).
+  std::optional<double> Q_Nm2, R_A2;
+};
+struct SpindleCurrentResult : KindResult {
+  std::string model_id;
+  double fs_hz = 0.0;
+  double friction_current_A = 0.0;
+  sysid::TorqueObserver observer;
+  double bandwidth_hz = 0.0;
+  bool Q_from_cut = true, R_from_resolution = true;
+  double helix_deg = 0.0;
+  Eigen::VectorXd torque_Nm;      // whole record, at fs
+  Eigen::VectorXd reference_Nm;   // resampled to fs, air mean removed; empty without one
+  Eigen::Index cut_begin = 0, cut_end = 0;
+  double torque_mean_Nm = 0.0, tooth_pass_amplitude_Nm = 0.0, tooth_pass_hz = 0.0;
+  double rmse_Nm = 0.0, nrmse_pct = 0.0;
+  double observer_runtime_s = 0.0;
+};
+
+class SpindleCurrentKind : public TestKind {
+ public:
+  std::string name() const override { return "spindle-current"; }
+  std::vector<std::string> keys() const override;
+  std::shared_ptr<const KindSpec> parse(const YAML::Node& root, YamlReader& r) const override;
+  std::vector<std::string> check_campaign(const CampaignSpec& c, const TestSpec& t) const override;
+  std::vector<std::filesystem::path> input_files(const TestSpec& t) const override;
+  std::vector<std::string> required_channels(const TestSpec&) const override;
+  std::vector<std::string> check_record(const TestSpec& t, double duration_s) const override;
+  std::vector<Need> needs(const TestSpec& t) const override;
+  void run(const TestSpec& t, const CampaignValues& in, const RunContext& ctx,
+           TestOutcome& out) const override;
+  nlohmann::json results(const TestOutcome& out) const override;
+  // torque/<test id, / as _>.csv: t, torque (format section 5).
+  void write_files(const TestOutcome& out, const std::filesystem::path& report_dir) const override;
+  std::string note(const TestOutcome& out) const override;
+  void figures(const CampaignResults&, const TestOutcome& out, FigureJobs& jobs) const override;
+  nlohmann::json report_section(const CampaignResults& r,
+                                const std::vector<const TestOutcome*>& ok_tests,
+                                const FigureSet& figures) const override;
+  void compare_truth(const TruthInput& in, const TestOutcome& out,
+                     TruthComparison& c) const override;
+};
+
+// results.json's relative path of a test's torque: "torque/<id with / as _>.csv".
+std::string spindle_torque_path(const std::string& test_id);
+// Figures: the estimate over the reference (time, over a few tooth periods of the cut window,
+// and amplitude spectrum), and the estimator's magnitude response.
+render::Figure spindle_torque_figure(const SpindleCurrentResult& r);
+render::Figure spindle_observer_response_figure(const SpindleCurrentResult& r);
 
 // ---- shared by frf and sweep-frf (era_model.cpp) -----------------------------------------
 // Runs ERA on (f, G) and fills `out` (status, warnings, result) for test `t`.

@@ -73,7 +73,7 @@ TEST(Validate, KindsNotAnalysedYetAreListedNotFailed) {
           "kind: dyno-frf\naxis: x\nsample_rate_hz: 51200\ndata: {file: hits.csv}\norder: 6\n");
   d.write("dynamometer/x/hits.csv", "hammer,dyno\n0,0\n1,0.5\n");
   d.write("spindle/test.yaml",
-          "kind: spindle-current\nsample_rate_hz: 1000\ndata: {file: i.csv}\n");
+          "kind: force-record\nsample_rate_hz: 1000\ndata: {file: i.csv}\n");
   d.write("spindle/i.csv", "current\n0\n");
   CampaignSpec c = load_campaign(d.path());
   std::ostringstream out;
@@ -82,7 +82,7 @@ TEST(Validate, KindsNotAnalysedYetAreListedNotFailed) {
   EXPECT_NE(s.find("dynamometer/x               dyno-frf (not analysed by this version)"),
             std::string::npos)
       << s;
-  EXPECT_NE(s.find("spindle-current (not analysed by this version)"), std::string::npos) << s;
+  EXPECT_NE(s.find("force-record (not analysed by this version)"), std::string::npos) << s;
   EXPECT_EQ(s.find("is not a known test kind"), std::string::npos) << s;
   EXPECT_EQ(s.find("key 'order'"), std::string::npos) << s;
   EXPECT_NE(s.find("3 tests found, 1 usable, 0 unusable, 2 of a kind not analysed by this "
