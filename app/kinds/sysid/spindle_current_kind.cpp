@@ -53,10 +53,20 @@ std::string spindle_torque_path(const std::string& test_id) {
 }
 
 std::vector<std::string> SpindleCurrentKind::keys() const {
-  return {"current_resolution_A", "model",       "spindle_rpm",     "operation",
-          "radial_immersion_mm",  "axial_depth_mm", "feed_per_tooth_mm", "Ktc_N_m2",
-          "Kte_N_m",              "air_window_s", "cut_window_s",    "dynamometer",
-          "Q_Nm2",                "R_A2"};
+  return {"current_resolution_A",
+          "model",
+          "spindle_rpm",
+          "operation",
+          "radial_immersion_mm",
+          "axial_depth_mm",
+          "feed_per_tooth_mm",
+          "Ktc_N_m2",
+          "Kte_N_m",
+          "air_window_s",
+          "cut_window_s",
+          "dynamometer",
+          "Q_Nm2",
+          "R_A2"};
 }
 
 std::shared_ptr<const KindSpec> SpindleCurrentKind::parse(const YAML::Node& root,
@@ -166,8 +176,8 @@ std::vector<std::string> SpindleCurrentKind::check_record(const TestSpec& t,
                                                           double duration_s) const {
   const auto& s = t.kind_spec<SpindleCurrentSpec>();
   std::vector<std::string> e;
-  for (const auto& [key, hi] : {std::pair<std::string, double>{"air_window_s", s.air_hi_s},
-                                {"cut_window_s", s.cut_hi_s}}) {
+  for (const auto& [key, hi] :
+       {std::pair<std::string, double>{"air_window_s", s.air_hi_s}, {"cut_window_s", s.cut_hi_s}}) {
     if (hi > duration_s * 1.0001) {
       e.push_back(t.yaml_label + ": key '" + key + "' ends at " + fmt_sig(hi, 6) +
                   " s, after the record (" + fmt_sig(duration_s, 6) + " s)");
@@ -342,7 +352,7 @@ void SpindleCurrentKind::write_files(const TestOutcome& out,
   for (Eigen::Index k = 0; k < n; ++k) t[k] = static_cast<double>(k) / r.fs_hz;
   frf_text::write_csv(file,
                       {"chatterlab " + std::string(CHATTERLAB_VERSION) + ", spindle-current test " +
-                       (out.spec->id.empty() ? std::string(".") : out.spec->id),
+                           (out.spec->id.empty() ? std::string(".") : out.spec->id),
                        "t: s from the record's start; torque: estimated cutting torque, N*m "
                        "(001 ch. 4, model " +
                            r.model_id + ")"},
@@ -412,7 +422,8 @@ render::Figure spindle_observer_response_figure(const SpindleCurrentResult& r) {
   const double nyq = 0.5 * r.fs_hz;
   const int n = 400;
   Eigen::VectorXd f(n);
-  for (int i = 0; i < n; ++i) f[i] = std::pow(10.0, std::log10(1.0) + i * std::log10(nyq * 0.999) / (n - 1));
+  for (int i = 0; i < n; ++i)
+    f[i] = std::pow(10.0, std::log10(1.0) + i * std::log10(nyq * 0.999) / (n - 1));
   const Eigen::VectorXcd H = sysid::torque_estimate_response(r.observer, f);
   std::vector<double> x(f.data(), f.data() + n), mag(n);
   for (int i = 0; i < n; ++i) mag[static_cast<std::size_t>(i)] = std::abs(H[i]);
@@ -424,8 +435,10 @@ render::Figure spindle_observer_response_figure(const SpindleCurrentResult& r) {
   a.log_x = true;
   a.log_y = true;
   a.series = {{x, mag, "observer", render::SeriesStyle::kLine, "#0072B2"},
-              {{r.bandwidth_hz, r.bandwidth_hz}, {0.05, 2.0},
-               "bandwidth " + fmt_sig(r.bandwidth_hz, 4) + " Hz", render::SeriesStyle::kDashedLine,
+              {{r.bandwidth_hz, r.bandwidth_hz},
+               {0.05, 2.0},
+               "bandwidth " + fmt_sig(r.bandwidth_hz, 4) + " Hz",
+               render::SeriesStyle::kDashedLine,
                "#555555"}};
   return fig;
 }
@@ -465,9 +478,8 @@ json SpindleCurrentKind::report_section(const CampaignResults&,
     j["rmse_Nm"] = fmt_sig(r.rmse_Nm, 3);
     j["nrmse_pct"] = fmt_sig(r.nrmse_pct, 3);
     j["runtime_ms"] = fmt_sig(r.observer_runtime_s * 1e3, 3);
-    j["msps"] = fmt_sig(static_cast<double>(r.torque_Nm.size()) /
-                            std::max(r.observer_runtime_s, 1e-9) / 1e6,
-                        3);
+    j["msps"] = fmt_sig(
+        static_cast<double>(r.torque_Nm.size()) / std::max(r.observer_runtime_s, 1e-9) / 1e6, 3);
     j["form"] = r.observer.modal ? "modal" : "dense";
     j["figure_torque"] = figures.of(t->spec->id, "torque");
     j["figure_response"] = figures.of(t->spec->id, "response");

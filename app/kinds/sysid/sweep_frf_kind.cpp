@@ -77,8 +77,8 @@ std::shared_ptr<const KindSpec> SweepFrfKind::parse(const YAML::Node& root, Yaml
       r.error("sweep_band_hz", "must be [low, high] with 0 <= low < high");
     } else if (rate > 0.0 && b->second > 0.5 * rate) {
       r.error("sweep_band_hz", "high = " + fmt_sig(b->second, 6) +
-                                   " Hz is above half the sample rate (" +
-                                   fmt_sig(0.5 * rate, 6) + " Hz)");
+                                   " Hz is above half the sample rate (" + fmt_sig(0.5 * rate, 6) +
+                                   " Hz)");
     }
   } else if (!root["sweep_band_hz"]) {
     r.error("sweep_band_hz", "is required: [low, high] Hz, the excited band");
@@ -248,8 +248,7 @@ render::Figure sweep_loop_figure(const SweepFrfResult& r) {
   return fig;
 }
 
-void SweepFrfKind::figures(const CampaignResults&, const TestOutcome& out,
-                           FigureJobs& jobs) const {
+void SweepFrfKind::figures(const CampaignResults&, const TestOutcome& out, FigureJobs& jobs) const {
   const auto& r = out.result_of<SweepFrfResult>();
   const std::string stem = figure_stem("sweep-frf", out.spec->id);
   jobs.add(out.spec->id, "frf", stem + "frf", era_frf_figure(r.model));

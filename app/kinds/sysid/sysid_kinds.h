@@ -120,6 +120,11 @@ class SweepFrfKind : public TestKind {
                                 const FigureSet& figures) const override;
   void compare_truth(const TruthInput& in, const TestOutcome& out,
                      TruthComparison& c) const override;
+  // The synth section `spindle` (sysid_synth.cpp): the sweep and the spindle-current cuts.
+  std::string synth_section() const override { return "spindle"; }
+  std::shared_ptr<const KindSpec> parse_synth(const YAML::Node& section, const SynthContext& ctx,
+                                              YamlReader& r) const override;
+  int write_synth(const KindSpec& section, SynthContext& ctx) const override;
 };
 
 // The three loop FRFs (magnitude) and the coherences of a sweep.
@@ -147,8 +152,8 @@ struct SpindleCurrentResult : KindResult {
   double bandwidth_hz = 0.0;
   bool Q_from_cut = true, R_from_resolution = true;
   double helix_deg = 0.0;
-  Eigen::VectorXd torque_Nm;      // whole record, at fs
-  Eigen::VectorXd reference_Nm;   // resampled to fs, air mean removed; empty without one
+  Eigen::VectorXd torque_Nm;     // whole record, at fs
+  Eigen::VectorXd reference_Nm;  // resampled to fs, air mean removed; empty without one
   Eigen::Index cut_begin = 0, cut_end = 0;
   double torque_mean_Nm = 0.0, tooth_pass_amplitude_Nm = 0.0, tooth_pass_hz = 0.0;
   double rmse_Nm = 0.0, nrmse_pct = 0.0;
