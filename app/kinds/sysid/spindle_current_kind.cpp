@@ -11,7 +11,6 @@
 #include "app/core/input_boundary.h"
 #include "app/core/signals.h"
 #include "app/core/yaml_reader.h"
-#include "app/formats/frf_text.h"
 #include "app/kinds/common/conditions.h"
 #include "app/kinds/sysid/sysid_kinds.h"
 #include "app/report/figure_jobs.h"
@@ -350,13 +349,9 @@ void SpindleCurrentKind::write_files(const TestOutcome& out,
   const Eigen::Index n = r.torque_Nm.size();
   Eigen::VectorXd t(n);
   for (Eigen::Index k = 0; k < n; ++k) t[k] = static_cast<double>(k) / r.fs_hz;
-  frf_text::write_csv(file,
-                      {"chatterlab " + std::string(CHATTERLAB_VERSION) + ", spindle-current test " +
-                           (out.spec->id.empty() ? std::string(".") : out.spec->id),
-                       "t: s from the record's start; torque: estimated cutting torque, N*m "
-                       "(001 ch. 4, model " +
-                           r.model_id + ")"},
-                      {{"t", t}, {"torque", r.torque_Nm}});
+  // A plain table (format section 5: t, torque, a row per sample), numbers in their shortest
+  // exact form.
+  write_signals(file, {"t", "torque"}, {&t, &r.torque_Nm});
 }
 
 std::string SpindleCurrentKind::note(const TestOutcome& out) const {

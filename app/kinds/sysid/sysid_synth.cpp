@@ -14,7 +14,6 @@
 #include "analysis/sysid/torque_observer.h"
 #include "app/core/signals.h"
 #include "app/core/yaml_reader.h"
-#include "app/formats/frf_text.h"
 #include "app/kinds/sysid/sysid_kinds.h"
 #include "app/synth/synth.h"
 
@@ -270,9 +269,8 @@ int SweepFrfKind::write_synth(const KindSpec& section, SynthContext& ctx) const 
     const Eigen::VectorXcd G = drive.torque_to_current(f);
     const std::string truth_csv = "truth/" + underscored(sweep_id) + ".csv";
     std::filesystem::create_directories((ctx.out / truth_csv).parent_path());
-    frf_text::write_csv(ctx.out / truth_csv,
-                        {"true torque-to-current FRF of the synthetic drive, A per N*m"},
-                        {{"freq_hz", f}, {"re", G.real()}, {"im", G.imag()}});
+    const Eigen::VectorXd re = G.real(), im = G.imag();
+    write_signals(ctx.out / truth_csv, {"freq_hz", "re", "im"}, {&f, &re, &im});
     const sysid::DiscreteStateSpace m = drive.torque_to_current_model();
     YAML::Node e(YAML::NodeType::Map);
     e["dc_gain_A_per_Nm"] = synth_number(drive.dc_gain_torque_to_current());
@@ -378,8 +376,7 @@ int SweepFrfKind::write_synth(const KindSpec& section, SynthContext& ctx) const 
     Eigen::VectorXd t(n);
     for (Eigen::Index k = 0; k < n; ++k) t[k] = (static_cast<double>(k) + 0.5) / fs;
     const std::string torque_csv = "truth/" + underscored(id) + "_torque.csv";
-    frf_text::write_csv(ctx.out / torque_csv, {"true cutting torque, N*m, mean over each sample"},
-                        {{"t", t}, {"torque", tau}});
+    write_signals(ctx.out / torque_csv, {"t", "torque"}, {&t, &tau});
     YAML::Node e(YAML::NodeType::Map);
     e["torque_file"] = torque_csv;
     e["model"] = sweep_id;
