@@ -188,7 +188,7 @@ render::Figure era_frf_figure(const EraModelResult& m) {
 
 render::Figure era_singular_value_figure(const EraModelResult& m) {
   const auto& r = m.era.realization;
-  const Eigen::Index n = std::min<Eigen::Index>(r.singular_values.size(), 200);
+  const Eigen::Index n = std::min<Eigen::Index>(r.singular_values.size(), 120);
   std::vector<double> idx, sv, kept_x, kept_y;
   for (Eigen::Index i = 0; i < n; ++i) {
     if (!(r.singular_values[i] > 0.0)) break;

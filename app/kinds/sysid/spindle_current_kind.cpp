@@ -404,6 +404,7 @@ render::Figure spindle_torque_figure(const SpindleCurrentResult& r) {
     ae.push_back(2.0 * std::abs(se) / static_cast<double>(cn));
     ar.push_back(2.0 * std::abs(sr) / static_cast<double>(cn));
   }
+  s.x_range = render::Range{0.0, fh.empty() ? fmax : fh.back() + r.tooth_pass_hz};
   if (!ref.empty()) {
     s.series.push_back(
         {fh, ar, "dynamometer, tooth-passing harmonics", render::SeriesStyle::kPoints, "#555555"});
