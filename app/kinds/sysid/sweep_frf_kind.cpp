@@ -220,10 +220,9 @@ render::Figure sweep_loop_figure(const SweepFrfResult& r) {
   // On the log frequency axis, about 400 points spaced evenly in log f draw the same curves as
   // every Welch bin (the high decades hold most bins); this keeps the figure light.
   double next = 0.0;
-  const double step =
-      F.band_end > F.band_begin + 1
-          ? std::pow(F.f_hz[F.band_end - 1] / F.f_hz[F.band_begin], 1.0 / 400.0)
-          : 2.0;
+  const double step = F.band_end > F.band_begin + 1
+                          ? std::pow(F.f_hz[F.band_end - 1] / F.f_hz[F.band_begin], 1.0 / 400.0)
+                          : 2.0;
   for (Eigen::Index k = F.band_begin; k < F.band_end; ++k) {
     if (F.f_hz[k] < next) continue;
     next = F.f_hz[k] * step;

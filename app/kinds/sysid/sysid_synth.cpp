@@ -209,6 +209,7 @@ int SweepFrfKind::write_synth(const KindSpec& section, SynthContext& ctx) const 
   p.sample_rate_hz = s.fs_hz;
   p.kt_nm_per_a = s.kt_nm_per_a;
   p.kp_a_s_per_rad = (p.j1_kg_m2 + p.j2_kg_m2) * kTwoPi * 100.0 / s.kt_nm_per_a;
+  p.current_delay_s = 1.0 / s.fs_hz;  // one controller sample, at any rate
   const sysid::SpindleDrive drive(p);
   const double fs = s.fs_hz;
   const double q = s.current_resolution_A;

@@ -94,9 +94,10 @@ TEST(ReportEndToEnd, DemoCampaignRecoversTruth) {
   EXPECT_EQ(g["tests"].size(), 6u);
 
   // Every input hashed; the truth comparison present.
-  // campaign, truth, 19 tests x (test.yaml, signals), the grinding test's inspections file
-  // (11 tests of the main document and grinding, 8 of the spindle-sensor set)
-  EXPECT_EQ(r["inputs_sha256"].size(), 1u + 1u + 2u * 19u + 1u);
+  // campaign, truth, 21 tests x (test.yaml, signals), the grinding test's inspections file and
+  // the spindle-current cut's dynamometer file (11 tests of the main document and grinding, 8
+  // of the spindle-sensor set, 2 of the spindle drive)
+  EXPECT_EQ(r["inputs_sha256"].size(), 1u + 1u + 2u * 21u + 1u + 1u);
   // Cut tests: offset angle against truth.yaml, modulo the half turn: the equal-teeth model of
   // 000 sec. 5.1 (hammer modes and dyno Ktc, Krc on both teeth) cannot tell the half turns
   // apart, and the identified one fixes them only up to the tooth labels. offset_angle_deg is
