@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstddef>
+#include <functional>
 #include <numeric>
 #include <sstream>
 
@@ -56,7 +57,7 @@ double median_of(Eigen::VectorXd v) {
 // The r eigenpairs of largest |lambda| of the symmetric matrix H, all eigenvalues returned in
 // `all` (ascending). Columns of U in order of descending |lambda|.
 void symmetric_top_eigenpairs(const Eigen::MatrixXd& H, int r, Eigen::VectorXd* all,
-                              Eigen::VectorXd* lambda, Eigen::MatrixXd* U) {
+                              Eigen::VectorXd* lambda, Eigen::MatrixXd* U, int* unconverged) {
   const int n = static_cast<int>(H.rows());
   Eigen::Tridiagonalization<Eigen::MatrixXd> tri(n);
   tri.compute(H);
@@ -121,6 +122,7 @@ void symmetric_top_eigenpairs(const Eigen::MatrixXd& H, int r, Eigen::VectorXd* 
   if (info < 0) {
     throw std::runtime_error("LAPACK dstein failed (info " + std::to_string(info) + ")");
   }
+  *unconverged = info;  // > 0: that many eigenvectors failed to converge in 5 iterations
   const Eigen::MatrixXd Q_Z = tri.matrixQ() * Z;
   // Back into descending |lambda| order.
   std::vector<int> order(static_cast<std::size_t>(r));
@@ -232,7 +234,8 @@ EraRealization era_realize(const Eigen::Ref<const Eigen::VectorXd>& y, double ra
   Eigen::MatrixXd U;
   // The order is not known before the eigenvalues are; ask for the cap and keep the first r.
   const int want = std::min(options.max_order, alpha - 1);
-  symmetric_top_eigenpairs(H, want, &all, &lambda, &U);
+  int unconverged = 0;
+  symmetric_top_eigenpairs(H, want, &all, &lambda, &U, &unconverged);
   out.svd_s = seconds_since(t0);
   out.singular_values = all.cwiseAbs();
   std::sort(out.singular_values.data(), out.singular_values.data() + alpha, std::greater<double>());
@@ -271,6 +274,11 @@ EraRealization era_realize(const Eigen::Ref<const Eigen::VectorXd>& y, double ra
   model.C = Ur.row(0) * s_half.asDiagonal();
   model.D = y[0];
   out.summary.succeed();
+  if (unconverged > 0) {
+    out.summary.warnings.push_back(std::to_string(unconverged) +
+                                   " Hankel eigenvectors did not converge (LAPACK dstein): the "
+                                   "realization may be inaccurate");
+  }
   if (out.order_by_threshold > r) {
     std::ostringstream m;
     m << "the threshold kept " << out.order_by_threshold
