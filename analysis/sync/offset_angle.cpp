@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "analysis/common/constants.h"
+#include "analysis/common/stopwatch.h"
 #include "analysis/milling/simulation.h"
 
 namespace chatterlab {
@@ -36,10 +37,6 @@ double circular_distance_deg(double a, double b) {
   double d = std::fmod(a - b, 360.0);
   if (d < 0.0) d += 360.0;
   return std::min(d, 360.0 - d);
-}
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 }  // namespace

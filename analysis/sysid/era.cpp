@@ -11,6 +11,7 @@
 
 #include "analysis/common/constants.h"
 #include "analysis/common/require.h"
+#include "analysis/common/stopwatch.h"
 #include "analysis/signal/fft.h"
 #include "analysis/sysid/gavish_donoho.h"
 
@@ -37,10 +38,7 @@ namespace chatterlab {
 namespace sysid {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+using Clock = SteadyClock;
 
 int select_stable(const double* wr, const double* wi) {
   return std::hypot(*wr, *wi) < kStableRadius ? 1 : 0;

@@ -9,16 +9,14 @@
 #include <sstream>
 
 #include "analysis/common/require.h"
+#include "analysis/common/stopwatch.h"
 #include "analysis/signal/fft.h"
 
 namespace chatterlab {
 namespace sysid {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+using Clock = SteadyClock;
 
 // splitmix64 (Steele, Lea and Flood 2014): a fixed mixing of the seed, the same on every
 // standard library (std::uniform_int_distribution is not).

@@ -12,6 +12,7 @@
 
 #include "analysis/common/constants.h"
 #include "analysis/common/require.h"
+#include "analysis/common/stopwatch.h"
 #include "analysis/sysid/era.h"
 #include "analysis/sysid/gavish_donoho.h"
 
@@ -19,10 +20,7 @@ namespace chatterlab {
 namespace sysid {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+using Clock = SteadyClock;
 
 double median_of(Eigen::VectorXd v) {
   const Eigen::Index n = v.size();
