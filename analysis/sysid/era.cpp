@@ -180,16 +180,19 @@ Eigen::VectorXd markov_parameters_from_frf(const Eigen::Ref<const Eigen::VectorX
       }
     }
   }
-  const long M = std::lround(rate / (2.0 * df));
+  const double half_steps = rate / (2.0 * df);
+  require_rule(std::isfinite(half_steps) && half_steps <= 1e7, "freq_hz step", df,
+               "too fine for the rate: sample_rate_hz / (2 step) must be <= 1e7 grid points");
+  const long M = std::lround(half_steps);
   require_rule(M >= 4, "freq_hz step", df,
                "too coarse for the rate: sample_rate_hz / (2 step) must be >= 4");
-  require_rule(M <= 50'000'000, "freq_hz step", df, "too fine: more than 5e7 grid points");
   const Eigen::Index N = 2 * M;
   Eigen::VectorXcd X(M + 1);
   const double f_last = f[n - 1];
   Eigen::Index i = 0;  // f[i] <= fm < f[i + 1] while fm is inside the data (fm rises)
   for (long m = 0; m <= M; ++m) {
-    const double fm = static_cast<double>(m) * rate / static_cast<double>(N);
+    // The last grid point is rate/2 exactly (m rate / N can round one ulp above it).
+    const double fm = m == M ? nyquist : static_cast<double>(m) * rate / static_cast<double>(N);
     std::complex<double> v;
     if (fm <= f[0]) {
       v = G[0];
@@ -197,8 +200,10 @@ Eigen::VectorXd markov_parameters_from_frf(const Eigen::Ref<const Eigen::VectorX
       while (i < n - 2 && f[i + 1] < fm) ++i;
       const double t = (fm - f[i]) / (f[i + 1] - f[i]);
       v = G[i] + t * (G[i + 1] - G[i]);
-    } else {
+    } else if (nyquist > f_last) {
       v = G[n - 1] * 0.5 * (1.0 + std::cos(kPi * (fm - f_last) / (nyquist - f_last)));
+    } else {
+      v = G[n - 1];  // f_last is rate/2 within rounding
     }
     X[m] = v;
   }

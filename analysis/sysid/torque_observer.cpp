@@ -77,7 +77,11 @@ Eigen::VectorXd nominal_cutting_torque(const NominalCut& c, double rate, Eigen::
 
 double torque_increment_variance(const NominalCut& c, double rate) {
   check_cut(c, rate);
-  const auto last = static_cast<Eigen::Index>(std::lround(20.0 * 60.0 / c.spindle_rpm * rate));
+  const double samples = 20.0 * 60.0 / c.spindle_rpm * rate;
+  require_rule(samples >= 10.0 && samples <= 2e6, "spindle_rpm", c.spindle_rpm,
+               "twenty revolutions must span 10 to 2e6 samples at the sample rate (Q of the "
+               "nominal cut)");
+  const auto last = static_cast<Eigen::Index>(std::lround(samples));
   const Eigen::VectorXd T = nominal_cutting_torque(c, rate, last + 1);
   const Eigen::VectorXd w = T.tail(last) - T.head(last);
   const double mean = w.mean();
@@ -184,7 +188,8 @@ void run_torque_observer_dense(const TorqueObserver& o, const Eigen::Ref<const E
   torque->resize(y.size());
   Eigen::VectorXd x = Eigen::VectorXd::Zero(m);
   Eigen::VectorXd xp(m);
-  for (Eigen::Index k = 0; k < y.size(); ++k) {
+  if (y.size() > 0) (*torque)[0] = 0.0;  // x_0 = 0 (format step 4); y_0 is not used
+  for (Eigen::Index k = 1; k < y.size(); ++k) {
     xp.noalias() = o.A_e * x;
     const double innov = y[k] - o.C_e.dot(xp);
     x = xp + o.K * innov;
@@ -222,7 +227,8 @@ void run_torque_observer(const TorqueObserver& o, const Eigen::Ref<const Eigen::
   (void)m;
   const std::size_t ns = sa.size(), np = pa.size();
   std::vector<double> zs(ns, 0.0), z1(np, 0.0), z2(np, 0.0);
-  for (Eigen::Index k = 0; k < y.size(); ++k) {
+  if (y.size() > 0) (*torque)[0] = 0.0;  // x_0 = 0 (format step 4); y_0 is not used
+  for (Eigen::Index k = 1; k < y.size(); ++k) {
     const double u = y[k];
     double out = 0.0;
     for (std::size_t i = 0; i < ns; ++i) {

@@ -8,7 +8,8 @@
 //   gain (4.10-4.11 corrected): P the a-priori solution of the filter DARE,
 //     K = P C_e^T / (C_e P C_e^T + R) (001 pairs the prior P with R^-1: printed 4.11 is wrong);
 //   observer (4.12 corrected): x_k = A_e x_{k-1} + K (y_k - C_e A_e x_{k-1}), torque_k = the last
-//     element of x_k (4.9), with y_k, not y_{k-1}; x_0 = 0;
+//     element of x_k (4.9), with y_k, not y_{k-1}; x_0 = 0, so torque_0 = 0 and the recursion
+//     starts with y_1;
 //   R (4.13) = resolution^2 / 12: a variance (001's 0.0029 is its square root);
 //   Q (4.14-4.19): the sample variance of T_{k+1} - T_k of the nominal cut's torque.
 //

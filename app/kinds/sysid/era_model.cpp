@@ -4,7 +4,10 @@
 
 #include "analysis/common/constants.h"
 #include "app/core/format.h"
+#include "app/core/input_boundary.h"
+#include "app/core/signals.h"
 #include "app/kinds/sysid/sysid_kinds.h"
+#include "app/pipeline/pipeline.h"
 #include "app/report/figure_jobs.h"
 #include "app/report/results_json.h"
 #include "app/report/truth.h"
@@ -142,6 +145,8 @@ void era_model_truth(const TruthInput& in, const TestOutcome& out, const EraMode
     for (std::size_t i = 0; i < modes.size(); ++i) {
       const double fn = truth_number(modes[i], "fn_hz");
       if (!std::isfinite(fn) || e.modes.empty()) continue;
+      // A mode whose peak is below three times the FRF's noise is not expected back.
+      if (truth_number(modes[i], "peak_to_noise") < 3.0) continue;
       const sysid::DiscreteMode* best = &e.modes.front();
       for (const auto& md : e.modes) {
         if (std::abs(md.fn_hz - fn) < std::abs(best->fn_hz - fn)) best = &md;
@@ -153,6 +158,41 @@ void era_model_truth(const TruthInput& in, const TestOutcome& out, const EraMode
   }
   add_truth_row(c, "dc_gain", id, truth_number(v, "dc_gain_A_per_Nm"), e.dc_gain);
   add_truth_row(c, "order", id, truth_number(v, "order"), static_cast<double>(e.model.order()));
+  // The model's fit to the noise-free FRF of truth.yaml's frf_file (a CSV freq_hz, re, im
+  // inside the campaign), over check_band_hz when given, else 0 < f <= rate/2: 100 is exact.
+  const YAML::Node file = v["frf_file"];
+  if (file && file.IsScalar() && in.results) {
+    const InputFileCheck chk =
+        check_input_file(in.results->campaign.root, in.results->campaign.root, file.Scalar());
+    if (!chk.ok()) return;
+    try {
+      DataSpec d;
+      d.file = chk.path;
+      d.relative_file = file.Scalar();
+      const SignalTable t = SignalTable::open(d, file.Scalar());
+      const Eigen::VectorXd f = t.channel("freq_hz"), re = t.channel("re"), im = t.channel("im");
+      double lo = 0.0, hi = 0.5 * e.model.sample_rate_hz;
+      if (const YAML::Node b = v["check_band_hz"]; b && b.IsSequence() && b.size() == 2) {
+        lo = b[0].as<double>(lo);
+        hi = b[1].as<double>(hi);
+      }
+      std::vector<Eigen::Index> keep;
+      for (Eigen::Index k = 0; k < f.size(); ++k) {
+        if (f[k] > 0.0 && f[k] >= lo && f[k] <= hi) keep.push_back(k);
+      }
+      if (keep.size() < 2) return;
+      Eigen::VectorXd fk(static_cast<Eigen::Index>(keep.size()));
+      Eigen::VectorXcd Gk(fk.size());
+      for (std::size_t k = 0; k < keep.size(); ++k) {
+        fk[static_cast<Eigen::Index>(k)] = f[keep[k]];
+        Gk[static_cast<Eigen::Index>(k)] = {re[keep[k]], im[keep[k]]};
+      }
+      add_truth_row(c, "frf_fit_vs_truth_pct", id, 100.0,
+                    sysid::frf_fit_pct(Gk, sysid::frequency_response(e.model, fk)));
+    } catch (const InputError&) {
+      // An unreadable truth file gives no row.
+    }
+  }
 }
 
 render::Figure era_frf_figure(const EraModelResult& m) {

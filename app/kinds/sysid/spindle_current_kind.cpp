@@ -289,14 +289,18 @@ void SpindleCurrentKind::run(const TestSpec& t, const CampaignValues& in, const 
     if (!dt.has("torque")) throw InputError(dlabel + ": has no column 'torque' (N*m)");
     const Eigen::VectorXd raw = dt.channel("torque");
     if (!raw.allFinite()) throw InputError(dlabel + ": column torque has a non-finite sample");
-    signal::RationalResampler rs(s.dyno_rate_hz, fs);
-    Eigen::VectorXd ref = rs.apply(raw);
-    if (ref.size() < res->cut_end) {
+    Eigen::VectorXd ref;
+    try {
+      ref = signal::RationalResampler(s.dyno_rate_hz, fs).apply(raw);
+    } catch (const InputError& e) {
+      throw InputError(t.yaml_label + ": key 'dynamometer.sample_rate_hz': " + e.what());
+    }
+    if (ref.size() < std::max(res->cut_end, a1)) {
       throw InputError(dlabel + ": ends at " + fmt_sig(raw.size() / s.dyno_rate_hz, 6) +
-                       " s, before the end of cut_window_s");
+                       " s, before the end of air_window_s or cut_window_s");
     }
     ref.conservativeResize(std::min(ref.size(), n));
-    const double air = ref.segment(a0, std::min(a1, ref.size()) - a0).mean();
+    const double air = ref.segment(a0, a1 - a0).mean();
     ref.array() -= air;
     res->reference_Nm = ref;
     const auto refc = ref.segment(c0, cn);

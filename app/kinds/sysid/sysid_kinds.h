@@ -65,6 +65,11 @@ class FrfKind : public TestKind {
                                 const FigureSet& figures) const override;
   void compare_truth(const TruthInput& in, const TestOutcome& out,
                      TruthComparison& c) const override;
+  // The synth section `era` (era_synth.cpp): frf tests of random systems with noise.
+  std::string synth_section() const override { return "era"; }
+  std::shared_ptr<const KindSpec> parse_synth(const YAML::Node& section, const SynthContext& ctx,
+                                              YamlReader& r) const override;
+  int write_synth(const KindSpec& section, SynthContext& ctx) const override;
 };
 
 // ---- sweep-frf -----------------------------------------------------------------------------

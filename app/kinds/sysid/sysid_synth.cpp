@@ -26,6 +26,7 @@ struct SpindleSynthSpec : KindSpec {
   double fs_hz = 10000.0;
   double kt_nm_per_a = 0.8;
   double current_resolution_A = 0.01;
+  double current_noise_A = 0.003;  // on the logged currents, before quantization
   double speed_noise_rpm = 0.2;
   // sweep
   double sweep_rpm = 5000.0;
@@ -105,6 +106,17 @@ Eigen::VectorXd dynamometer(const Eigen::VectorXd& torque, double fs, double fn,
   return out;
 }
 
+// The drive of notes/001.md sec. 7.1 A at the spec's rate and torque constant (speed-loop
+// crossover near 100 Hz whatever Kt), its current loop one controller sample late.
+sysid::SpindleDriveParams drive_params(const SpindleSynthSpec& s) {
+  sysid::SpindleDriveParams p;
+  p.sample_rate_hz = s.fs_hz;
+  p.kt_nm_per_a = s.kt_nm_per_a;
+  p.kp_a_s_per_rad = (p.j1_kg_m2 + p.j2_kg_m2) * kTwoPi * 100.0 / s.kt_nm_per_a;
+  p.current_delay_s = 1.0 / s.fs_hz;
+  return p;
+}
+
 }  // namespace
 
 std::shared_ptr<const KindSpec> SweepFrfKind::parse_synth(const YAML::Node& section,
@@ -118,7 +130,7 @@ std::shared_ptr<const KindSpec> SweepFrfKind::parse_synth(const YAML::Node& sect
   const YAML::Node n = section.IsMap() ? section : YAML::Node(YAML::NodeType::Map);
   r.check_keys(n,
                {"folder", "sample_rate_hz", "torque_constant_Nm_per_A", "current_resolution_A",
-                "speed_noise_rpm", "sweep", "cuts", "dynamometer"},
+                "current_noise_A", "speed_noise_rpm", "sweep", "cuts", "dynamometer"},
                "spindle");
   s->folder = r.optional_string(n, "folder", "spindle").value_or(s->folder);
   if (s->folder.empty() || s->folder.front() == '/' || s->folder.back() == '/' ||
@@ -129,6 +141,8 @@ std::shared_ptr<const KindSpec> SweepFrfKind::parse_synth(const YAML::Node& sect
   read(r, n, "torque_constant_Nm_per_A", "spindle", s->kt_nm_per_a);
   read(r, n, "current_resolution_A", "spindle", s->current_resolution_A);
   read(r, n, "speed_noise_rpm", "spindle", s->speed_noise_rpm);
+  read(r, n, "current_noise_A", "spindle", s->current_noise_A);
+  if (!(s->current_noise_A >= 0.0)) r.error("spindle.current_noise_A", "must be >= 0");
   positive(r, "spindle.sample_rate_hz", s->fs_hz);
   positive(r, "spindle.torque_constant_Nm_per_A", s->kt_nm_per_a);
   positive(r, "spindle.current_resolution_A", s->current_resolution_A);
@@ -146,6 +160,7 @@ std::shared_ptr<const KindSpec> SweepFrfKind::parse_synth(const YAML::Node& sect
   read(r, sw, "duration_s", "spindle.sweep", s->sweep_s);
   read(r, sw, "amplitude_rpm", "spindle.sweep", s->sweep_amplitude_rpm);
   if (const auto k = r.optional_int(sw, "segment_samples", "spindle.sweep", 64, 1 << 20)) {
+    if (*k % 2 != 0) r.error("spindle.sweep.segment_samples", "must be even");
     s->segment_samples = static_cast<int>(*k);
   }
   positive(r, "spindle.sweep.spindle_rpm", s->sweep_rpm);
@@ -200,17 +215,20 @@ std::shared_ptr<const KindSpec> SweepFrfKind::parse_synth(const YAML::Node& sect
   positive(r, "spindle.dynamometer.fn_hz", s->dyno_fn_hz);
   positive(r, "spindle.dynamometer.zeta", s->dyno_zeta);
   if (!ctx.tool) r.error("tool", "is required by the spindle section (the cuts' tool)");
+  if (s->fs_hz > 0.0 && s->kt_nm_per_a > 0.0) {
+    try {
+      const sysid::SpindleDrive check(drive_params(*s));
+    } catch (const InputError& e) {
+      r.error("spindle.sample_rate_hz",
+              std::string("the drive cannot run at this rate: ") + e.what());
+    }
+  }
   return s;
 }
 
 int SweepFrfKind::write_synth(const KindSpec& section, SynthContext& ctx) const {
   const auto& s = dynamic_cast<const SpindleSynthSpec&>(section);
-  sysid::SpindleDriveParams p;
-  p.sample_rate_hz = s.fs_hz;
-  p.kt_nm_per_a = s.kt_nm_per_a;
-  p.kp_a_s_per_rad = (p.j1_kg_m2 + p.j2_kg_m2) * kTwoPi * 100.0 / s.kt_nm_per_a;
-  p.current_delay_s = 1.0 / s.fs_hz;  // one controller sample, at any rate
-  const sysid::SpindleDrive drive(p);
+  const sysid::SpindleDrive drive(drive_params(s));
   const double fs = s.fs_hz;
   const double q = s.current_resolution_A;
   const auto quantize = [q](double v) { return std::round(v / q); };  // counts
@@ -235,8 +253,8 @@ int SweepFrfKind::write_synth(const KindSpec& section, SynthContext& ctx) const 
     Eigen::VectorXd speed(n), cur(n), act(n);
     for (Eigen::Index k = 0; k < n; ++k) {
       speed[k] = rec.speed_rpm[k] + s.speed_noise_rpm * nd(rng);
-      cur[k] = quantize(rec.current_nom_a[k]);
-      act[k] = quantize(rec.current_act_a[k] + 0.5 * q * nd(rng));
+      cur[k] = quantize(rec.current_nom_a[k] + s.current_noise_A * nd(rng));
+      act[k] = quantize(rec.current_act_a[k] + s.current_noise_A * nd(rng));
     }
     const auto dir = ctx.out / sweep_id;
     std::filesystem::create_directories(dir);
@@ -323,7 +341,7 @@ int SweepFrfKind::write_synth(const KindSpec& section, SynthContext& ctx) const 
     std::normal_distribution<double> nd(0.0, 1.0);
     Eigen::VectorXd cur(n), speed(n);
     for (Eigen::Index k = 0; k < n; ++k) {
-      cur[k] = quantize(rec.current_nom_a[k]);
+      cur[k] = quantize(rec.current_nom_a[k] + s.current_noise_A * nd(rng));
       speed[k] = rec.speed_rpm[k] + s.speed_noise_rpm * nd(rng);
     }
     const std::string id = s.folder + "/" + cut_name(rpm);

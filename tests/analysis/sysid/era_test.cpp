@@ -88,6 +88,17 @@ TEST(MarkovFromFrf, BandLimitedDataIsTaperedToZeroAndHeldBelow) {
   EXPECT_NEAR(y[0], sum / 1000.0, 1e-13);
 }
 
+// A rate whose half is not a whole grid step in floating point: the last grid point is rate/2
+// exactly (m rate / N rounds one ulp above it, which divided the taper by zero).
+TEST(MarkovFromFrf, DataEndingAtHalfAnOddRateStaysFinite) {
+  const double rate = 10000.1;
+  const Eigen::VectorXd f = Eigen::VectorXd::LinSpaced(110, 0.0, 0.5 * rate);
+  const Eigen::VectorXcd G = Eigen::VectorXcd::Constant(110, std::complex<double>(1.0, 0.5));
+  const Eigen::VectorXd y = markov_parameters_from_frf(f, G, rate);
+  EXPECT_TRUE(y.allFinite());
+  EXPECT_NEAR(y[0], 1.0, 1e-12);  // a constant real part: an impulse of 1 (Im ignored at 0, M)
+}
+
 TEST(MarkovFromFrf, BadGridsNameTheKey) {
   Eigen::VectorXd f(4);
   f << 0.0, 10.0, 20.0, 31.0;  // 3.3 % off the mean step
@@ -102,6 +113,8 @@ TEST(MarkovFromFrf, BadGridsNameTheKey) {
   f << 0.0, 2000.0, 4000.0, 6000.0;  // beyond rate/2
   EXPECT_THROW(markov_parameters_from_frf(f, G, kRate), InputError);
   f << 30.0, 20.0, 10.0, 0.0;  // falling
+  EXPECT_THROW(markov_parameters_from_frf(f, G, kRate), InputError);
+  f << 0.0, 1e-4, 2e-4, 3e-4;  // a grid of 5e7 points for 10 kHz
   EXPECT_THROW(markov_parameters_from_frf(f, G, kRate), InputError);
 }
 

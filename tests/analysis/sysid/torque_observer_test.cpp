@@ -68,6 +68,18 @@ TEST(NominalCut, SlotTorqueOf001) {
   NominalCut bad = slot(0.0);
   bad.feed_per_tooth_m = 0.0;
   EXPECT_THROW(torque_increment_variance(bad, kRate), InputError);
+  // Twenty revolutions must span 10 .. 2e6 samples: 1 rpm (1.2e7 samples) and 2e6 rpm are
+  // refused, naming spindle_rpm.
+  for (double rpm : {1.0, 2e6}) {
+    NominalCut c = slot(0.0);
+    c.spindle_rpm = rpm;
+    try {
+      torque_increment_variance(c, kRate);
+      ADD_FAILURE() << rpm;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("spindle_rpm"), std::string::npos) << e.what();
+    }
+  }
 }
 
 // The DARE gain equals the limit of the time-varying Kalman filter on the augmented model
@@ -108,6 +120,8 @@ TEST(TorqueObserver, ModalEqualsDenseAndIsUnbiased) {
     Eigen::VectorXd t1, t2;
     run_torque_observer(o, y, &t1);
     run_torque_observer_dense(o, y, &t2);
+    EXPECT_EQ(t1[0], 0.0);  // x_0 = 0 (format step 4)
+    EXPECT_EQ(t2[0], 0.0);
     const double range = t2.maxCoeff() - t2.minCoeff();
     EXPECT_LT((t1 - t2).cwiseAbs().maxCoeff(), 1e-9 * range) << seed;
     const Eigen::VectorXcd H0 = torque_estimate_response(o, Eigen::VectorXd::Zero(1));
