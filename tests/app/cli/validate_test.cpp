@@ -72,8 +72,7 @@ TEST(Validate, KindsNotAnalysedYetAreListedNotFailed) {
   d.write("dynamometer/x/test.yaml",
           "kind: dyno-frf\naxis: x\nsample_rate_hz: 51200\ndata: {file: hits.csv}\norder: 6\n");
   d.write("dynamometer/x/hits.csv", "hammer,dyno\n0,0\n1,0.5\n");
-  d.write("spindle/test.yaml",
-          "kind: force-record\nsample_rate_hz: 1000\ndata: {file: i.csv}\n");
+  d.write("spindle/test.yaml", "kind: force-record\nsample_rate_hz: 1000\ndata: {file: i.csv}\n");
   d.write("spindle/i.csv", "current\n0\n");
   CampaignSpec c = load_campaign(d.path());
   std::ostringstream out;
@@ -91,18 +90,21 @@ TEST(Validate, KindsNotAnalysedYetAreListedNotFailed) {
       << s;
 
   // Anything else wrong with such a test is still a problem.
-  d.write("dynamometer/y/test.yaml", "kind: force-record\nsample_rate_hz: 0\ndata: {file: none.csv}\n");
+  d.write("dynamometer/y/test.yaml",
+          "kind: force-record\nsample_rate_hz: 0\ndata: {file: none.csv}\n");
   CampaignSpec c2 = load_campaign(d.path());
   std::ostringstream out2;
   EXPECT_EQ(validate_campaign(c2, out2), 1) << out2.str();
-  EXPECT_NE(out2.str().find("UNUSABLE dynamometer/y               force-record (not analysed by this "
-                            "version)"),
-            std::string::npos)
+  EXPECT_NE(
+      out2.str().find("UNUSABLE dynamometer/y               force-record (not analysed by this "
+                      "version)"),
+      std::string::npos)
       << out2.str();
   // An unknown kind outside the format stays an error.
   d.write("other/test.yaml", "kind: thermal\nsample_rate_hz: 10\ndata: {file: a.csv}\n");
   d.write("other/a.csv", "a\n1\n");
-  d.write("dynamometer/y/test.yaml", "kind: force-record\nsample_rate_hz: 10\ndata: {file: i.csv}\n");
+  d.write("dynamometer/y/test.yaml",
+          "kind: force-record\nsample_rate_hz: 10\ndata: {file: i.csv}\n");
   d.write("dynamometer/y/i.csv", "a\n1\n");
   CampaignSpec c3 = load_campaign(d.path());
   std::ostringstream out3;
