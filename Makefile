@@ -37,11 +37,13 @@ demo: build
 # test binary (docs/testing.md). lld links the 128 binaries. CI runs it (.ci/run).
 # SANITIZE_SKIP: a ctest -E regex of tests left out. By default: those that repeat an analysis
 # over noise seeds for statistics (their one-seed twins run), the browser test (chromium is
-# not instrumented) and the demo report's end-to-end test (593 s under the sanitizers; its code
-# runs there on smaller campaigns, docs/testing.md).
+# not instrumented), the demo report's end-to-end test (593 s under the sanitizers; its code
+# runs there on smaller campaigns, docs/testing.md), the ERA study over fifty random systems
+# (120 s; era_test runs the same code on single systems) and a second full identification run
+# (IdentificationScale, 144 s; Identification.* run the same code).
 # `make sanitize SANITIZE_SKIP=` runs every test.
 ASAN_BUILD ?= build-asan
-SANITIZE_SKIP ?= Over.*Seeds|ReportBrowser\.|ReportEndToEnd\.DemoCampaignRecoversTruth
+SANITIZE_SKIP ?= Over.*Seeds|ReportBrowser\.|ReportEndToEnd\.DemoCampaignRecoversTruth|EraValidation\.|IdentificationScale\.
 $(ASAN_BUILD)/CMakeCache.txt:
 	@cmake $(GENERATOR) -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g1" \
 	  -DCMAKE_EXE_LINKER_FLAGS=-fuse-ld=lld -DCHATTERLAB_SANITIZE=ON -DCHATTERLAB_WERROR=OFF \
