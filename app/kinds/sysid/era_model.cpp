@@ -18,13 +18,11 @@ using nlohmann::json;
 
 EraModelResult run_era_model(const TestSpec& t, const Eigen::VectorXd& f_hz,
                              const Eigen::VectorXcd& G, const std::string& input_unit,
-                             const std::string& output_unit, int era_max_order) {
+                             const std::string& output_unit, const sysid::EraOptions& options) {
   EraModelResult m;
   m.input_unit = input_unit;
   m.output_unit = output_unit;
-  sysid::EraOptions o;
-  o.max_order = era_max_order;
-  m.era = sysid::era_identify(f_hz, G, t.sample_rate_hz, o);
+  m.era = sysid::era_identify(f_hz, G, t.sample_rate_hz, options);
   if (m.era.summary.ok()) {
     auto d = std::make_shared<DriveModel>();
     d->id = t.id;
@@ -34,6 +32,17 @@ EraModelResult run_era_model(const TestSpec& t, const Eigen::VectorXd& f_hz,
     m.drive = std::move(d);
   }
   return m;
+}
+
+std::string value::describe_drive_model(const std::string& name) {
+  return name.rfind("drive-model:", 0) == 0 ? "the ERA model of " + name.substr(12) : "";
+}
+
+std::string underscored(std::string id) {
+  for (char& c : id) {
+    if (c == '/') c = '_';
+  }
+  return id;
 }
 
 namespace {

@@ -135,11 +135,7 @@ int FrfKind::write_synth(const KindSpec& section, SynthContext& ctx) const {
     // Truth: the noise-free FRF on the same grid, the modes and their peak over the noise.
     const Eigen::VectorXcd G0 = sysid::frequency_response(truth, f);
     const Eigen::VectorXd re0 = G0.real(), im0 = G0.imag();
-    std::string base = id;
-    for (char& c : base) {
-      if (c == '/') c = '_';
-    }
-    const std::string truth_csv = "truth/" + base + ".csv";
+    const std::string truth_csv = "truth/" + underscored(id) + ".csv";
     std::filesystem::create_directories((ctx.out / truth_csv).parent_path());
     write_signals(ctx.out / truth_csv, {"freq_hz", "re", "im"}, {&f, &re0, &im0});
     YAML::Node t(YAML::NodeType::Map);

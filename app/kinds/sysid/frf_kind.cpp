@@ -32,7 +32,7 @@ std::vector<std::string> FrfKind::provides(const TestSpec& t) const {
 }
 
 std::string FrfKind::describe_value(const std::string& name) const {
-  return name.rfind("drive-model:", 0) == 0 ? "the ERA model of " + name.substr(12) : "";
+  return value::describe_drive_model(name);
 }
 
 void FrfKind::run(const TestSpec& t, const CampaignValues&, const RunContext&,
@@ -47,7 +47,9 @@ void FrfKind::run(const TestSpec& t, const CampaignValues&, const RunContext&,
   G.real() = re;
   G.imag() = im;
   auto res = std::make_unique<FrfResult>();
-  res->model = run_era_model(t, f, G, s.input_unit, s.output_unit, s.era_max_order);
+  sysid::EraOptions o;
+  o.max_order = s.era_max_order;
+  res->model = run_era_model(t, f, G, s.input_unit, s.output_unit, o);
   const auto& e = res->model.era;
   out.warnings.insert(out.warnings.end(), e.summary.warnings.begin(), e.summary.warnings.end());
   if (!e.summary.ok()) {

@@ -44,11 +44,7 @@ Eigen::Index sample_at(double t_s, double fs, Eigen::Index n) {
 }  // namespace
 
 std::string spindle_torque_path(const std::string& test_id) {
-  std::string id = test_id.empty() ? std::string("root") : test_id;
-  for (char& c : id) {
-    if (c == '/') c = '_';
-  }
-  return "torque/" + id + ".csv";
+  return "torque/" + underscored(test_id.empty() ? std::string("root") : test_id) + ".csv";
 }
 
 std::vector<std::string> SpindleCurrentKind::keys() const {

@@ -116,7 +116,7 @@ std::vector<std::string> SweepFrfKind::provides(const TestSpec& t) const {
 }
 
 std::string SweepFrfKind::describe_value(const std::string& name) const {
-  return name.rfind("drive-model:", 0) == 0 ? "the ERA model of " + name.substr(12) : "";
+  return value::describe_drive_model(name);
 }
 
 void SweepFrfKind::run(const TestSpec& t, const CampaignValues&, const RunContext&,
@@ -167,9 +167,7 @@ void SweepFrfKind::run(const TestSpec& t, const CampaignValues&, const RunContex
   sysid::EraOptions o;
   o.max_order = s.era_max_order;
   o.grid_step_hz = t.sample_rate_hz / s.segment_samples;
-  res->model.input_unit = "N*m";
-  res->model.output_unit = "A";
-  res->model.era = sysid::era_identify(f, G, t.sample_rate_hz, o);
+  res->model = run_era_model(t, f, G, "N*m", "A", o);
   const auto& e = res->model.era;
   out.warnings.insert(out.warnings.end(), e.summary.warnings.begin(), e.summary.warnings.end());
   if (res->min_coherence_in_band < 0.5) {
@@ -181,12 +179,6 @@ void SweepFrfKind::run(const TestSpec& t, const CampaignValues&, const RunContex
     out.status.fail(label + ": " + e.summary.message);
     return;
   }
-  auto d = std::make_shared<DriveModel>();
-  d->id = t.id;
-  d->model = e.model;
-  d->input_unit = "N*m";
-  d->output_unit = "A";
-  res->model.drive = std::move(d);
   out.result = std::move(res);
   out.status.succeed();
 }

@@ -21,7 +21,12 @@ namespace chatterlab::app {
 namespace value {
 // std::shared_ptr<const DriveModel> of the frf or sweep-frf test `id`.
 inline std::string drive_model(const std::string& id) { return "drive-model:" + id; }
+// "the ERA model of <id>" for a drive_model name, else empty (TestKind::describe_value).
+std::string describe_drive_model(const std::string& name);
 }  // namespace value
+
+// A test id as one file name: every '/' replaced by '_' (torque/<id>.csv, truth files).
+std::string underscored(std::string id);
 
 // What a model test gives its consumers.
 struct DriveModel {
@@ -200,7 +205,7 @@ render::Figure spindle_observer_response_figure(const SpindleCurrentResult& r);
 // Runs ERA on (f, G) and fills `out` (status, warnings, result) for test `t`.
 EraModelResult run_era_model(const TestSpec& t, const Eigen::VectorXd& f_hz,
                              const Eigen::VectorXcd& G, const std::string& input_unit,
-                             const std::string& output_unit, int era_max_order);
+                             const std::string& output_unit, const sysid::EraOptions& options);
 // results.json `model` block (format section 5).
 nlohmann::json era_model_json(const EraModelResult& m);
 // One line for the table of tests: "order 12 (ERA 14, 2 unstable removed), fit 98.7 %".

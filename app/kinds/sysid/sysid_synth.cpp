@@ -71,13 +71,6 @@ std::string cut_name(double rpm) {
   return b;
 }
 
-std::string underscored(std::string id) {
-  for (char& c : id) {
-    if (c == '/') c = '_';
-  }
-  return id;
-}
-
 YAML::Node flow_numbers(const std::vector<double>& v) {
   YAML::Node n(YAML::NodeType::Sequence);
   for (double x : v) n.push_back(synth_number(x));
