@@ -23,22 +23,6 @@ sifs::Axis read_sifs_axis(const YAML::Node& root, YamlReader& r, bool allow_z) {
   return sifs::Axis::kX;
 }
 
-std::optional<std::pair<double, double>> read_interval(const YAML::Node& root, YamlReader& r,
-                                                       const std::string& key, bool required) {
-  if (!root[key]) {
-    if (required) r.error(key, "is required: [start, end]");
-    return std::nullopt;
-  }
-  const auto p = r.optional_pair(root, key);
-  if (!p) return std::nullopt;
-  if (!(p->first >= 0 && p->second > p->first)) {
-    r.error(key, "must be [start, end] with 0 <= start < end, not [" + fmt_sig(p->first, 6) + ", " +
-                     fmt_sig(p->second, 6) + "]");
-    return std::nullopt;
-  }
-  return p;
-}
-
 sifs::Washers read_washers(const SignalTable& table, const TestSpec& t) {
   sifs::Washers w(static_cast<Eigen::Index>(table.samples()), 6);
   for (int i = 0; i < 6; ++i) {
@@ -46,13 +30,6 @@ sifs::Washers read_washers(const SignalTable& table, const TestSpec& t) {
     w.col(i) = table.channel(n, t.channel(n));
   }
   return w;
-}
-
-std::optional<std::string> window_outside(const TestSpec& t, const std::string& key, double hi,
-                                          double duration_s) {
-  if (hi <= duration_s * 1.0001) return std::nullopt;
-  return t.yaml_label + ": key '" + key + "' ends at " + fmt_sig(hi, 6) + " s, after the record (" +
-         fmt_sig(duration_s, 6) + " s)";
 }
 
 std::optional<double> read_tool_length(const YAML::Node& root, YamlReader& r) {

@@ -15,6 +15,7 @@
 #include "app/core/campaign.h"
 #include "app/core/signals.h"
 #include "app/core/yaml_reader.h"
+#include "app/kinds/common/conditions.h"
 
 namespace chatterlab::app {
 
@@ -27,17 +28,8 @@ std::string sifs_signal_label(const TestSpec& t);
 // `axis` (x | y | z, or x | y when !allow_z); an error through r otherwise.
 sifs::Axis read_sifs_axis(const YAML::Node& root, YamlReader& r, bool allow_z);
 
-// A [lo, hi] pair of seconds or hertz with 0 <= lo < hi; errors through r.
-std::optional<std::pair<double, double>> read_interval(const YAML::Node& root, YamlReader& r,
-                                                       const std::string& key, bool required);
-
 // The washer channels of a record, calibrated by test.yaml (washer newtons).
 sifs::Washers read_washers(const SignalTable& table, const TestSpec& t);
-
-// "<test.yaml>: key '<key>' ends at b s, after the record (c s)" when [lo, hi] ends after
-// the record.
-std::optional<std::string> window_outside(const TestSpec& t, const std::string& key, double hi,
-                                          double duration_s);
 
 struct SifsTapData;
 

@@ -21,6 +21,7 @@
 #include "analysis/sifs/compensator.h"
 #include "analysis/sifs/sensor_model.h"
 #include "analysis/signal/harmonic_fit.h"
+#include "app/kinds/common/hammer_hits.h"
 #include "app/pipeline/kind.h"
 #include "render/figure.h"
 
@@ -74,8 +75,7 @@ struct SifsStaticGroupResult : KindResult {
 // ---- sifs-tap ------------------------------------------------------------------------------
 struct SifsTapSpec : KindSpec {
   sifs::Axis axis = sifs::Axis::kX;
-  bool auto_hits = false;
-  std::vector<std::pair<double, double>> hits_s;  // [start, end] s
+  HammerHits hits;
   double band_lo_hz = 0.0, band_hi_hz = 0.0;
   int modes = 3;
   std::optional<double> tool_length_mm;  // extension key: picks the calibration (see above)

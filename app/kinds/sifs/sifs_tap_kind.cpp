@@ -6,6 +6,7 @@
 #include "app/core/format.h"
 #include "app/formats/frf_text.h"
 #include "app/formats/uff58.h"
+#include "app/kinds/common/hammer_hits.h"
 #include "app/kinds/sifs/sifs_common.h"
 #include "app/kinds/sifs/sifs_kinds.h"
 #include "app/kinds/tap/tap_kind.h"
@@ -60,30 +61,7 @@ std::shared_ptr<const KindSpec> SifsTapKind::parse(const YAML::Node& root, YamlR
   auto s = std::make_shared<SifsTapSpec>();
   s->axis = read_sifs_axis(root, r, false);
   s->tool_length_mm = read_tool_length(root, r);
-  const YAML::Node hits = root["hits"];
-  if (!hits) {
-    r.error("hits", "is required: a list of [start_s, end_s] windows, or auto");
-  } else if (hits.IsScalar() && hits.as<std::string>() == "auto") {
-    s->auto_hits = true;
-  } else if (!hits.IsSequence() || hits.size() == 0) {
-    r.error("hits", "must be a list of [start_s, end_s] windows, or auto");
-  } else {
-    for (std::size_t i = 0; i < hits.size(); ++i) {
-      const std::string key = "hits[" + std::to_string(i) + "]";
-      try {
-        const YAML::Node w = hits[i];
-        if (!w.IsSequence() || w.size() != 2) throw YAML::Exception(YAML::Mark::null_mark(), "");
-        const double a = w[0].as<double>(), b = w[1].as<double>();
-        if (!(a >= 0 && b > a)) {
-          r.error(key, "must be [start_s, end_s] with 0 <= start_s < end_s");
-          continue;
-        }
-        s->hits_s.emplace_back(a, b);
-      } catch (const YAML::Exception&) {
-        r.error(key, "must be [start_s, end_s], two numbers");
-      }
-    }
-  }
+  s->hits = read_hammer_hits(root, r);
   if (auto band = read_interval(root, r, "band_hz", true)) {
     s->band_lo_hz = band->first;
     s->band_hi_hz = band->second;
@@ -106,13 +84,7 @@ std::vector<std::string> SifsTapKind::required_channels(const TestSpec&) const {
 
 std::vector<std::string> SifsTapKind::check_record(const TestSpec& t, double duration_s) const {
   const auto& s = t.kind_spec<SifsTapSpec>();
-  std::vector<std::string> e;
-  for (std::size_t i = 0; i < s.hits_s.size(); ++i) {
-    if (auto m =
-            window_outside(t, "hits[" + std::to_string(i) + "]", s.hits_s[i].second, duration_s)) {
-      e.push_back(*m);
-    }
-  }
+  std::vector<std::string> e = hammer_hits_outside(t, s.hits, duration_s);
   if (s.band_hi_hz > 0.5 * t.sample_rate_hz) {
     e.push_back(t.yaml_label + ": key 'band_hz' ends at " + fmt_sig(s.band_hi_hz, 6) +
                 " Hz, above the Nyquist frequency (" + fmt_sig(0.5 * t.sample_rate_hz, 6) + " Hz)");
@@ -154,56 +126,7 @@ void SifsTapKind::run(const TestSpec& t, const CampaignValues& in, const RunCont
   const Eigen::Matrix3d C = calibration_for(*cal, t, s.tool_length_mm, out.warnings);
   data->response_n = p * C.row(k).transpose();
   const double fs = t.sample_rate_hz;
-  if (s.auto_hits) {
-    try {
-      data->windows = sifs::auto_tap_windows(data->hammer_n, fs);
-    } catch (const InputError& e) {
-      throw InputError(sifs_signal_label(t) + ": hits: auto: " + e.what());
-    }
-  } else {
-    // Equal lengths: the shortest window's sample count for all (they differ at most by
-    // rounding).
-    Eigen::Index len = -1;
-    for (const auto& h : s.hits_s) {
-      const Eigen::Index n = static_cast<Eigen::Index>(std::llround((h.second - h.first) * fs));
-      len = len < 0 ? n : std::min(len, n);
-    }
-    for (std::size_t i = 0; i < s.hits_s.size(); ++i) {
-      const Eigen::Index b = static_cast<Eigen::Index>(std::llround(s.hits_s[i].first * fs));
-      const Eigen::Index n =
-          static_cast<Eigen::Index>(std::llround((s.hits_s[i].second - s.hits_s[i].first) * fs));
-      if (n > len + 1) {
-        throw InputError(t.yaml_label + ": key 'hits[" + std::to_string(i) +
-                         "]': the windows must have equal lengths (this one is " +
-                         fmt_sig(static_cast<double>(n) / fs, 6) + " s, the shortest " +
-                         fmt_sig(static_cast<double>(len) / fs, 6) + " s)");
-      }
-      if (b + len > data->hammer_n.size()) {
-        throw InputError(t.yaml_label + ": key 'hits[" + std::to_string(i) + "]': the window [" +
-                         fmt_sig(s.hits_s[i].first, 6) + ", " +
-                         fmt_sig(s.hits_s[i].first + static_cast<double>(len) / fs, 6) +
-                         "] s runs past the end of the record (" +
-                         fmt_sig(static_cast<double>(data->hammer_n.size()) / fs, 6) + " s)");
-      }
-      data->windows.push_back({b, b + len});
-    }
-  }
-  // A window shorter than this resolves the FRF more coarsely than a tap test should (auto:
-  // the closest pair of hits, or a hit near the record's end, sets every window's length).
-  constexpr double kShortWindowS = 0.1;
-  if (!data->windows.empty()) {
-    const double w_s =
-        static_cast<double>(data->windows.front().end - data->windows.front().begin) / fs;
-    if (w_s < kShortWindowS) {
-      out.warnings.push_back("hit windows are " + fmt_sig(w_s, 3) +
-                             " s long (frequency resolution " + fmt_sig(1.0 / w_s, 3) + " Hz)" +
-                             (s.auto_hits
-                                  ? ": with hits: auto the closest pair of hits (or a hit near "
-                                    "the record's end) sets the length of every window; "
-                                    "give the windows as hits: [[start, end], ...]"
-                                  : ""));
-    }
-  }
+  data->windows = hammer_windows(t, s.hits, data->hammer_n, sifs_signal_label(t), out.warnings);
   auto res = std::make_unique<SifsTapResult>();
   try {
     res->frf = sifs::tap_frf(data->hammer_n, data->response_n, fs, data->windows);
