@@ -47,6 +47,13 @@ YAML::Node synth_numbers(const std::vector<std::pair<std::string, double>>& valu
   return n;
 }
 
+YAML::Node synth_number_list(const std::vector<double>& values) {
+  YAML::Node n(YAML::NodeType::Sequence);
+  for (double v : values) n.push_back(synth_number(v));
+  n.SetStyle(YAML::EmitterStyle::Flow);
+  return n;
+}
+
 void configure_synth_emitter(YAML::Emitter& e) {
   e.SetDoublePrecision(kSynthDigits);  // the same text as synth_number
 }

@@ -64,6 +64,8 @@ constexpr int kSynthDigits = 10;
 std::string synth_number(double v);
 // A flow mapping {key: number, ...} in the given order, numbers as synth_number.
 YAML::Node synth_numbers(const std::vector<std::pair<std::string, double>>& values);
+// A flow sequence [number, ...], numbers as synth_number.
+YAML::Node synth_number_list(const std::vector<double>& values);
 // A YAML emitter set up for synth's files (numbers as synth_number).
 void configure_synth_emitter(YAML::Emitter& e);
 // Writes the emitter's document and a final newline to `path`, creating its folder.

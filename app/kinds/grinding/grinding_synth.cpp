@@ -173,12 +173,6 @@ GrindingTestSynth read_test(const YAML::Node& t, const std::string& path, YamlRe
   return s;
 }
 
-YAML::Node numbers(const std::vector<double>& v) {
-  YAML::Node n(YAML::NodeType::Sequence);
-  for (double x : v) n.push_back(synth_number(x));
-  n.SetStyle(YAML::EmitterStyle::Flow);
-  return n;
-}
 
 void emit_variances(YAML::Emitter& y, const char* key, const std::array<double, 4>& v) {
   y << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginMap;
@@ -434,17 +428,17 @@ int write_grinding_tests(const GrindingSynthSpec& s, SynthContext& ctx) {
       cyc.push_back(static_cast<double>(i + 1));
       n.push_back(series.n[i]);
     }
-    pc["cycle"] = numbers(cyc);
-    pc["n"] = numbers(n);
+    pc["cycle"] = synth_number_list(cyc);
+    pc["n"] = synth_number_list(n);
     for (int c = 0; c < 4; ++c) {
       const Eigen::VectorXd col = series.truth_at_cycle_end.col(c);
       pc[kStates[static_cast<std::size_t>(c)]] =
-          numbers(std::vector<double>(col.data(), col.data() + col.size()));
+          synth_number_list(std::vector<double>(col.data(), col.data() + col.size()));
     }
-    pc["Ra_um"] = numbers(std::vector<double>(series.Ra_true_um.data(),
+    pc["Ra_um"] = synth_number_list(std::vector<double>(series.Ra_true_um.data(),
                                               series.Ra_true_um.data() + series.Ra_true_um.size()));
     if (series.roundness_true_um.size() > 0 && series.roundness_true_um.allFinite()) {
-      pc["roundness_um"] = numbers(
+      pc["roundness_um"] = synth_number_list(
           std::vector<double>(series.roundness_true_um.data(),
                               series.roundness_true_um.data() + series.roundness_true_um.size()));
     }

@@ -369,16 +369,10 @@ std::string cut_name(double rpm) {
   return b;
 }
 
-YAML::Node numbers(const std::vector<double>& v) {
-  YAML::Node n(YAML::NodeType::Sequence);
-  for (double x : v) n.push_back(synth_number(x));
-  n.SetStyle(YAML::EmitterStyle::Flow);
-  return n;
-}
 
 YAML::Node matrix(const Eigen::Matrix3d& m) {
   YAML::Node n(YAML::NodeType::Sequence);
-  for (int i = 0; i < 3; ++i) n.push_back(numbers({m(i, 0), m(i, 1), m(i, 2)}));
+  for (int i = 0; i < 3; ++i) n.push_back(synth_number_list({m(i, 0), m(i, 1), m(i, 2)}));
   n.SetStyle(YAML::EmitterStyle::Flow);
   return n;
 }
@@ -453,7 +447,7 @@ int write_static(const SifsSynthSpec& spec, SynthContext& ctx) {
     y << YAML::EndSeq << YAML::EndMap;
     write_synth_yaml(dir / "test.yaml", y);
     YAML::Node e(YAML::NodeType::Map);
-    e["drift_N_per_min"] = numbers(std::vector<double>(
+    e["drift_N_per_min"] = synth_number_list(std::vector<double>(
         st.drift_n_per_min.data(), st.drift_n_per_min.data() + st.drift_n_per_min.size()));
     ctx.truth.tests[id] = e;
   }
@@ -500,7 +494,7 @@ int write_taps(const SifsSynthSpec& spec, SynthContext& ctx) {
           {{"fn_hz", m.fn_hz}, {"zeta", m.zeta}, {"alpha", m.alpha}, {"residue_phase_deg", 0.0}}));
     }
     e["modes"] = modes;
-    e["antiresonances_hz"] = numbers(s::antiresonances_hz(o.modes));
+    e["antiresonances_hz"] = synth_number_list(s::antiresonances_hz(o.modes));
     e["bandwidth_before_hz"] =
         synth_number(s::bandwidth_before_hz(o.modes, 0.5 * spec.filter_rate_hz));
     e["noise_var_N2"] = synth_number(tap.noise_var_n2);
@@ -540,7 +534,7 @@ YAML::Node harmonics_node(const SifsSynthSpec& spec, const s::CutSynth& cut, dou
   const auto begin = static_cast<Eigen::Index>(std::ceil(cut.harmonic_window_s[0] * fs - 1e-6));
   const auto end = static_cast<Eigen::Index>(std::ceil(cut.harmonic_window_s[1] * fs - 1e-6));
   YAML::Node n(YAML::NodeType::Map);
-  n["h"] = numbers(std::vector<double>(h.begin(), h.end()));
+  n["h"] = synth_number_list(std::vector<double>(h.begin(), h.end()));
   n["h"].SetStyle(YAML::EmitterStyle::Flow);
   for (int a = 0; a < 2; ++a) {
     const Eigen::VectorXd x = cut.tip_force_n.col(a);
@@ -559,10 +553,10 @@ YAML::Node harmonics_node(const SifsSynthSpec& spec, const s::CutSynth& cut, dou
       mim.push_back(m.imag());
     }
     const std::string ax = kAxes[a];
-    n[ax + "_re_N"] = numbers(re);
-    n[ax + "_im_N"] = numbers(im);
-    n[ax + "_meas_re_N"] = numbers(mre);
-    n[ax + "_meas_im_N"] = numbers(mim);
+    n[ax + "_re_N"] = synth_number_list(re);
+    n[ax + "_im_N"] = synth_number_list(im);
+    n[ax + "_meas_re_N"] = synth_number_list(mre);
+    n[ax + "_meas_im_N"] = synth_number_list(mim);
     n[ax + "_mean_N"] = synth_number(fit.c0);
   }
   return n;
@@ -631,8 +625,8 @@ int write_cuts(const SifsSynthSpec& spec, SynthContext& ctx) {
     e["spindle_rpm"] = synth_number(rpm);
     e["teeth"] = o.force.teeth;
     e["force_file"] = force_file;
-    e["window_s"] = numbers({cut.harmonic_window_s[0], cut.harmonic_window_s[1]});
-    e["noise_var_N2"] = numbers({cut.noise_var_n2[0], cut.noise_var_n2[1]});
+    e["window_s"] = synth_number_list({cut.harmonic_window_s[0], cut.harmonic_window_s[1]});
+    e["noise_var_N2"] = synth_number_list({cut.noise_var_n2[0], cut.noise_var_n2[1]});
     YAML::Node ub(YAML::NodeType::Map);
     ub["x"] = unbalance_node(cut.unbalance_x);
     ub["y"] = unbalance_node(cut.unbalance_y);

@@ -71,12 +71,6 @@ std::string cut_name(double rpm) {
   return b;
 }
 
-YAML::Node flow_numbers(const std::vector<double>& v) {
-  YAML::Node n(YAML::NodeType::Sequence);
-  for (double x : v) n.push_back(synth_number(x));
-  n.SetStyle(YAML::EmitterStyle::Flow);
-  return n;
-}
 
 // The dynamometer: a second-order low-pass of unit static gain (its resonance fn, zeta),
 // discretized by zero-order hold at its rate.
@@ -287,7 +281,7 @@ int SweepFrfKind::write_synth(const KindSpec& section, SynthContext& ctx) const 
     YAML::Node e(YAML::NodeType::Map);
     e["dc_gain_A_per_Nm"] = synth_number(drive.dc_gain_torque_to_current());
     e["sample_rate_hz"] = synth_number(fs);
-    e["check_band_hz"] = flow_numbers({s.band_lo_hz, std::min(s.band_hi_hz, 2000.0)});
+    e["check_band_hz"] = synth_number_list({s.band_lo_hz, std::min(s.band_hi_hz, 2000.0)});
     e["frf_file"] = truth_csv;
     YAML::Node modes(YAML::NodeType::Sequence);
     for (const auto& md : sysid::modes_of(sysid::poles(m), fs)) {
@@ -393,8 +387,8 @@ int SweepFrfKind::write_synth(const KindSpec& section, SynthContext& ctx) const 
     e["torque_file"] = torque_csv;
     e["model"] = sweep_id;
     e["sample_rate_hz"] = synth_number(fs);
-    e["cut_window_s"] = flow_numbers({cut0, cut1});
-    e["air_window_s"] = flow_numbers({air0, air1});
+    e["cut_window_s"] = synth_number_list({cut0, cut1});
+    e["air_window_s"] = synth_number_list({air0, air1});
     e["Q_Nm2"] = synth_number(sysid::torque_increment_variance(c, fs));
     e["R_A2"] = synth_number(q * q / 12.0);
     e["tooth_pass_hz"] = synth_number(tool.teeth * rpm / 60.0);
