@@ -1,6 +1,7 @@
 // The built-in kinds: adding a kind adds one line here (docs/adding-a-kind.md).
 #include "app/kinds/cut/cut_kind.h"
 #include "app/kinds/dyno_slot/dyno_slot_kind.h"
+#include "app/kinds/forcerec/forcerec_kinds.h"
 #include "app/kinds/grinding/grinding_kind.h"
 #include "app/kinds/lobes/lobes_group.h"
 #include "app/kinds/sifs/sifs_kinds.h"
@@ -25,6 +26,7 @@ void register_builtin_kinds(KindRegistry& r) {
   r.add(std::make_unique<FrfKind>());
   r.add(std::make_unique<SweepFrfKind>());
   r.add(std::make_unique<SpindleCurrentKind>());
+  r.add(std::make_unique<DynoFrfKind>());
 }
 
 }  // namespace chatterlab::app

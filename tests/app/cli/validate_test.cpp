@@ -70,20 +70,20 @@ TEST(Validate, KindsNotAnalysedYetAreListedNotFailed) {
   d.write("campaign.yaml", kCampaignYaml);
   write_tap(d);
   d.write("dynamometer/x/test.yaml",
-          "kind: dyno-frf\naxis: x\nsample_rate_hz: 51200\ndata: {file: hits.csv}\norder: 6\n");
-  d.write("dynamometer/x/hits.csv", "hammer,dyno\n0,0\n1,0.5\n");
+          "kind: force-record\nsample_rate_hz: 10240\ndata: {file: f.csv}\nspindle_rpm: 15345\n");
+  d.write("dynamometer/x/f.csv", "Fx,Fy\n0,0\n1,0.5\n");
   d.write("spindle/test.yaml", "kind: force-record\nsample_rate_hz: 1000\ndata: {file: i.csv}\n");
   d.write("spindle/i.csv", "current\n0\n");
   CampaignSpec c = load_campaign(d.path());
   std::ostringstream out;
   EXPECT_EQ(validate_campaign(c, out), 0) << out.str();
   const std::string s = out.str();
-  EXPECT_NE(s.find("dynamometer/x               dyno-frf (not analysed by this version)"),
+  EXPECT_NE(s.find("dynamometer/x               force-record (not analysed by this version)"),
             std::string::npos)
       << s;
   EXPECT_NE(s.find("force-record (not analysed by this version)"), std::string::npos) << s;
   EXPECT_EQ(s.find("is not a known test kind"), std::string::npos) << s;
-  EXPECT_EQ(s.find("key 'order'"), std::string::npos) << s;
+  EXPECT_EQ(s.find("key 'spindle_rpm'"), std::string::npos) << s;
   EXPECT_NE(s.find("3 tests found, 1 usable, 0 unusable, 2 of a kind not analysed by this "
                    "version (report skips them)"),
             std::string::npos)

@@ -58,8 +58,8 @@ const char* kEstimation =
     "estimation: {window_s: 0.02, max_passes: 1, repeat_runs: 2, settle_revolutions: 5}\n";
 
 // A kind of the contract's section 4, which this version skips as unknown.
-const char* kDynoFrfTest =
-    "kind: dyno-frf\naxis: x\nsample_rate_hz: 51200\ndata: {file: hits.csv}\norder: 6\n";
+const char* kForceRecordTest =
+    "kind: force-record\nsample_rate_hz: 10240\ndata: {file: forces.csv}\nspindle_rpm: 15345\n";
 
 std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 
@@ -124,8 +124,8 @@ TEST(ResultsSchema, ReportOfASynthCampaignValidatesAndBrokenCopiesFail) {
   ASSERT_EQ(run(quoted(bin) + " synth " + quoted(spec) + " --out " + quoted(campaign), log), 0)
       << read_text(log);
   std::ofstream(campaign / "campaign.yaml", std::ios::app) << kEstimation;
-  d.write("campaign/dynamometer/x/test.yaml", kDynoFrfTest);
-  d.write("campaign/dynamometer/x/hits.csv", "hammer,dyno\n0,0\n1,0.5\n");
+  d.write("campaign/dynamometer/x/test.yaml", kForceRecordTest);
+  d.write("campaign/dynamometer/x/forces.csv", "Fx,Fy\n0,0\n1,0.5\n");
   ASSERT_EQ(
       run(quoted(bin) + " report " + quoted(campaign) + " --out " + quoted(out) + " --no-pdf", log),
       0)
@@ -164,7 +164,7 @@ TEST(ResultsSchema, ReportOfASynthCampaignValidatesAndBrokenCopiesFail) {
   }
   EXPECT_EQ(tests["dynamometer/x"]["status"], "skipped");
   EXPECT_NE(tests["dynamometer/x"]["skip_reason"].get<std::string>().find(
-                "'dyno-frf' is not a known test kind"),
+                "'force-record' is not a known test kind"),
             std::string::npos);
   EXPECT_TRUE(r["groups"]["dyno-slot"].contains("Ktc_N_m2"));
   EXPECT_EQ(r["identified_from"], "cuts/constant");

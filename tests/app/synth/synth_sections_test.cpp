@@ -47,8 +47,8 @@ TEST(SynthSections, EveryRegisteredSectionIsReadByItsKind) {
   for (const auto& k : builtin_kinds().kinds()) {
     if (!k->synth_section().empty()) sections.insert(k->synth_section());
   }
-  EXPECT_EQ(sections,
-            (std::set<std::string>{"tap", "dyno", "cut", "grinding", "sifs", "spindle", "era"}));
+  EXPECT_EQ(sections, (std::set<std::string>{"tap", "dyno", "cut", "grinding", "sifs", "spindle",
+                                             "era", "forcerec"}));
   TempDir d;
   SynthSpecText t;
   t.cut_tests = kOneCut;
