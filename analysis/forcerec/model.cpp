@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <unsupported/Eigen/MatrixFunctions>
 
+#include "analysis/common/constants.h"
+
 namespace chatterlab {
 namespace forcerec {
 
@@ -45,7 +47,7 @@ Eigen::VectorXcd frequency_response(const ContinuousModel& model,
   const Eigen::RowVectorXcd C = model.C.cast<std::complex<double>>();
   Eigen::VectorXcd out(f_hz.size());
   for (Eigen::Index i = 0; i < f_hz.size(); ++i) {
-    const std::complex<double> s(0.0, 2.0 * M_PI * f_hz[i]);
+    const std::complex<double> s(0.0, kTwoPi * f_hz[i]);
     const Eigen::MatrixXcd sI_A = s * Eigen::MatrixXcd::Identity(n, n) - A;
     out[i] = (C * sI_A.partialPivLu().solve(B))(0);
   }
@@ -61,7 +63,7 @@ Eigen::VectorXcd frequency_response(const DiscreteModel& model,
   const Eigen::RowVectorXcd C = model.C.cast<std::complex<double>>();
   Eigen::VectorXcd out(f_hz.size());
   for (Eigen::Index i = 0; i < f_hz.size(); ++i) {
-    const std::complex<double> z = std::polar(1.0, 2.0 * M_PI * f_hz[i] / model.sample_rate_hz);
+    const std::complex<double> z = std::polar(1.0, kTwoPi * f_hz[i] / model.sample_rate_hz);
     const Eigen::MatrixXcd zI_A = z * Eigen::MatrixXcd::Identity(n, n) - A;
     out[i] = (C * zI_A.partialPivLu().solve(B))(0);
   }
@@ -70,10 +72,11 @@ Eigen::VectorXcd frequency_response(const DiscreteModel& model,
 
 Eigen::VectorXd impulse_response(const DiscreteModel& model, Eigen::Index count) {
   Eigen::VectorXd h(count);
-  Eigen::VectorXd x = model.Bd;
+  Eigen::VectorXd x = model.Bd, next(model.order());
   for (Eigen::Index k = 0; k < count; ++k) {
     h[k] = model.C.dot(x);
-    x = model.Ad * x;
+    next.noalias() = model.Ad * x;
+    x.swap(next);
   }
   return h;
 }
@@ -81,10 +84,12 @@ Eigen::VectorXd impulse_response(const DiscreteModel& model, Eigen::Index count)
 Eigen::VectorXd simulate(const DiscreteModel& model,
                          const Eigen::Ref<const Eigen::VectorXd>& force) {
   Eigen::VectorXd y(force.size());
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(model.order());
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(model.order()), next(model.order());
   for (Eigen::Index k = 0; k < force.size(); ++k) {
     y[k] = model.C.dot(x);
-    x = model.Ad * x + model.Bd * force[k];
+    next.noalias() = model.Ad * x;
+    next += model.Bd * force[k];
+    x.swap(next);
   }
   return y;
 }

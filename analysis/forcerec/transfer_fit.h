@@ -72,7 +72,8 @@ TransferModel transfer_model_from_roots(const Eigen::Ref<const Eigen::VectorXcd>
 
 // A model from 004 eq. 3.1's coefficients as 004 Table 3.1 lists them: num = [b1 .. bn],
 // den = [a1 .. an] (the leading 1 of s^n left out; units s^-i). Roots are the eigenvalues of the
-// companion matrices of the frequency-scaled polynomials (s = w0 s~, w0 = |an|^(1/n)).
+// companion matrices of the frequency-scaled polynomials (s = w0 s~, w0 = max_i |c_i|^(1/i) over
+// each polynomial's coefficients c_i).
 // @throws InputError for sizes that differ, n < 1, b1 = 0 or a coefficient not finite.
 TransferModel transfer_model_from_coefficients(const Eigen::Ref<const Eigen::VectorXd>& num,
                                                const Eigen::Ref<const Eigen::VectorXd>& den);

@@ -11,6 +11,12 @@ using nlohmann::json;
 
 json number_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
+json number_array(const Eigen::Ref<const Eigen::VectorXd>& v) {
+  json a = json::array();
+  for (Eigen::Index i = 0; i < v.size(); ++i) a.push_back(v[i]);
+  return a;
+}
+
 const char* status_word(const StepSummary& status, Failure failure) {
   if (status.ok()) return "ok";
   return failure == Failure::kInternal ? "error" : "skipped";

@@ -3,6 +3,7 @@
 // comparison) is written here; each test's and group's own keys come from its kind.
 #pragma once
 
+#include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
 #include "app/pipeline/pipeline.h"
@@ -23,6 +24,8 @@ nlohmann::json figure_files_json(const FigureSet& figures, const std::string& ow
 
 // Finite numbers as numbers, NaN and infinities as null (JSON has no NaN).
 nlohmann::json number_or_null(double v);
+// The entries of v as a JSON array of numbers.
+nlohmann::json number_array(const Eigen::Ref<const Eigen::VectorXd>& v);
 
 // A test's status word: "ok", "skipped" (bad or missing input) or "error" (internal error).
 const char* status_word(const StepSummary& status, Failure failure);

@@ -47,6 +47,16 @@ YAML::Node synth_numbers(const std::vector<std::pair<std::string, double>>& valu
   return n;
 }
 
+std::string read_synth_folder(const YAML::Node& section, const std::string& name,
+                              const std::string& fallback, YamlReader& r) {
+  const std::string f = r.optional_string(section, "folder", name).value_or(fallback);
+  if (f.empty() || f.front() == '/' || f.back() == '/' || f.find("..") != std::string::npos ||
+      f.find('\\') != std::string::npos) {
+    r.error(name + ".folder", "must be a relative folder path such as " + name + " or lab/" + name);
+  }
+  return f;
+}
+
 YAML::Node synth_number_list(const std::vector<double>& values) {
   YAML::Node n(YAML::NodeType::Sequence);
   for (double v : values) n.push_back(synth_number(v));

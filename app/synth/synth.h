@@ -18,6 +18,8 @@
 #include <utility>
 #include <vector>
 
+#include "app/core/yaml_reader.h"
+
 namespace chatterlab::app {
 
 struct SynthSummary {
@@ -64,6 +66,11 @@ constexpr int kSynthDigits = 10;
 std::string synth_number(double v);
 // A flow mapping {key: number, ...} in the given order, numbers as synth_number.
 YAML::Node synth_numbers(const std::vector<std::pair<std::string, double>>& values);
+// The optional key `folder` of a synth section (the parent folder of its tests): a relative
+// path without `..` or a backslash, not ending in '/'; `fallback` when absent. Errors through r,
+// keyed `<section>.folder`.
+std::string read_synth_folder(const YAML::Node& section, const std::string& name,
+                              const std::string& fallback, YamlReader& r);
 // A flow sequence [number, ...], numbers as synth_number.
 YAML::Node synth_number_list(const std::vector<double>& values);
 // A YAML emitter set up for synth's files (numbers as synth_number).

@@ -3,12 +3,14 @@
 #include <cmath>
 #include <complex>
 
+#include "analysis/common/constants.h"
 #include "app/core/format.h"
 #include "app/core/signals.h"
 #include "app/core/yaml_reader.h"
 #include "app/kinds/common/conditions.h"
 #include "app/kinds/forcerec/forcerec_kinds.h"
 #include "app/report/figure_jobs.h"
+#include "app/report/results_json.h"
 #include "app/report/truth.h"
 
 namespace chatterlab::app {
@@ -17,7 +19,6 @@ using nlohmann::json;
 
 namespace {
 
-constexpr double kRadToDeg = 57.29577951308232;
 // The default fit band (format section 4): [50, min(4000, 0.4 sample_rate_hz)] Hz.
 constexpr double kDefaultBandLoHz = 50.0;
 constexpr double kDefaultBandHiHz = 4000.0;
@@ -32,10 +33,6 @@ json pairs_json(const std::vector<forcerec::RootPair>& pairs) {
   json a = json::array();
   for (const auto& p : pairs) a.push_back({{"fn_hz", p.fn_hz}, {"zeta", p.zeta}});
   return a;
-}
-
-json vector_json(const Eigen::VectorXd& v) {
-  return json(std::vector<double>(v.data(), v.data() + v.size()));
 }
 
 std::string axis_name(char a) { return std::string(1, a); }
@@ -78,6 +75,11 @@ std::vector<std::string> DynoFrfKind::check_record(const TestSpec& t, double dur
   if (s.band_given && s.band_hi_hz > 0.5 * t.sample_rate_hz) {
     e.push_back(t.yaml_label + ": key 'band_hz' ends at " + fmt_sig(s.band_hi_hz, 6) +
                 " Hz, above the Nyquist frequency (" + fmt_sig(0.5 * t.sample_rate_hz, 6) + " Hz)");
+  }
+  if (!s.band_given && kDefaultBandHiFraction * t.sample_rate_hz <= kDefaultBandLoHz) {
+    e.push_back(t.yaml_label + ": key 'band_hz' is required at sample_rate_hz " +
+                fmt_sig(t.sample_rate_hz, 6) +
+                ": the default band [50, 0.4 sample_rate_hz] Hz is " + "empty below 125 Hz");
   }
   return e;
 }
@@ -131,11 +133,6 @@ void DynoFrfKind::run(const TestSpec& t, const CampaignValues&, const RunContext
   if (res->frf.hits < 2) {
     out.warnings.push_back("one hit: the coherence is 1 by construction");
   }
-  if (fit.zeros_mirrored > 0) {
-    out.warnings.push_back(std::to_string(fit.zeros_mirrored) +
-                           " right-half-plane zero(s) of the fit mirrored into the left half "
-                           "plane (the sliding-mode observer needs a minimum-phase model)");
-  }
   auto m = std::make_shared<DynoModel>();
   m->id = t.id;
   m->axis = s.axis;
@@ -159,8 +156,8 @@ json DynoFrfKind::results(const TestOutcome& out) const {
           {"order", s.order},
           {"band_hz", {r.band_lo_hz, r.band_hi_hz}},
           {"hits_used", r.frf.hits},
-          {"num", vector_json(f.num)},
-          {"den", vector_json(f.den)},
+          {"num", number_array(f.num)},
+          {"den", number_array(f.den)},
           {"poles", pairs_json(f.model.pole_pairs)},
           {"real_poles_rad_s", f.model.real_poles_rad_s},
           {"zeros", pairs_json(f.model.zero_pairs)},
@@ -243,7 +240,7 @@ json DynoFrfKind::report_section(const CampaignResults&, const std::vector<const
     }
     for (double p : f.model.real_poles_rad_s) {
       roots.push_back({{"what", "real pole"},
-                       {"fn_hz", fmt_sig(std::abs(p) / (2 * M_PI), 5)},
+                       {"fn_hz", fmt_sig(std::abs(p) / kTwoPi, 5)},
                        {"zeta_pct", "100"}});
     }
     for (const auto& z : f.model.zero_pairs) {
@@ -253,7 +250,7 @@ json DynoFrfKind::report_section(const CampaignResults&, const std::vector<const
     }
     for (double z : f.model.real_zeros_rad_s) {
       roots.push_back({{"what", "real zero"},
-                       {"fn_hz", fmt_sig(std::abs(z) / (2 * M_PI), 5)},
+                       {"fn_hz", fmt_sig(std::abs(z) / kTwoPi, 5)},
                        {"zeta_pct", z < 0 ? "100" : "-100"}});
     }
     j["roots"] = roots;

@@ -88,11 +88,7 @@ std::shared_ptr<const KindSpec> DynoFrfKind::parse_synth(const YAML::Node& secti
                {"folder", "sample_rate_hz", "axes", "hits", "hit_spacing_s", "peak_N", "pulse_s",
                 "bounce_fraction", "bounce_delay_s", "noise_N", "band_hz"},
                "forcerec");
-  s->folder = r.optional_string(n, "folder", "forcerec").value_or(s->folder);
-  if (s->folder.empty() || s->folder.front() == '/' || s->folder.back() == '/' ||
-      s->folder.find("..") != std::string::npos || s->folder.find('\\') != std::string::npos) {
-    r.error("forcerec.folder", "must be a relative folder path such as forcerec");
-  }
+  s->folder = read_synth_folder(n, "forcerec", s->folder, r);
   read(r, n, "sample_rate_hz", s->fs_hz);
   if (n["axes"]) {
     s->axes.clear();

@@ -369,7 +369,6 @@ std::string cut_name(double rpm) {
   return b;
 }
 
-
 YAML::Node matrix(const Eigen::Matrix3d& m) {
   YAML::Node n(YAML::NodeType::Sequence);
   for (int i = 0; i < 3; ++i) n.push_back(synth_number_list({m(i, 0), m(i, 1), m(i, 2)}));
@@ -651,12 +650,7 @@ std::shared_ptr<const KindSpec> parse_sifs_synth(const YAML::Node& section, cons
                {"folder", "calibration_matrix", "washer_scale_N_per_V", "plant", "filter_rate_hz",
                 "static", "taps", "cuts"},
                "sifs");
-  spec->folder = r.optional_string(n, "folder", "sifs").value_or(spec->folder);
-  if (spec->folder.empty() || spec->folder.front() == '/' || spec->folder.back() == '/' ||
-      spec->folder.find("..") != std::string::npos ||
-      spec->folder.find('\\') != std::string::npos) {
-    r.error("sifs.folder", "must be a relative folder path such as sifs or lab/sifs");
-  }
+  spec->folder = read_synth_folder(n, "sifs", spec->folder, r);
   read_matrix(n, r, spec->C);
   read(r, n, "washer_scale_N_per_V", "sifs", spec->washer_scale_N_per_V);
   positive(r, "sifs.washer_scale_N_per_V", spec->washer_scale_N_per_V);

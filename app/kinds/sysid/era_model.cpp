@@ -57,12 +57,6 @@ json matrix_rows(const Eigen::MatrixXd& A) {
   return rows;
 }
 
-json vector_json(const Eigen::Ref<const Eigen::VectorXd>& v) {
-  json a = json::array();
-  for (Eigen::Index i = 0; i < v.size(); ++i) a.push_back(v[i]);
-  return a;
-}
-
 }  // namespace
 
 json era_model_json(const EraModelResult& m) {
@@ -84,12 +78,12 @@ json era_model_json(const EraModelResult& m) {
       {"hankel_cols", e.realization.hankel_size},
       {"markov_samples", e.markov_length},
       {"singular_value_threshold", e.realization.threshold},
-      {"singular_values", vector_json(e.realization.singular_values.head(
+      {"singular_values", number_array(e.realization.singular_values.head(
                               std::min<Eigen::Index>(e.realization.singular_values.size(), 200)))},
       {"decoupling_residual", number_or_null(e.decoupling_residual)},
       {"A", matrix_rows(e.model.A)},
-      {"B", vector_json(e.model.B)},
-      {"C", vector_json(e.model.C.transpose())},
+      {"B", number_array(e.model.B)},
+      {"C", number_array(e.model.C.transpose())},
       {"D", e.model.D},
       {"poles_z", poles},
       {"modes", modes},

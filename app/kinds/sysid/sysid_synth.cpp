@@ -71,7 +71,6 @@ std::string cut_name(double rpm) {
   return b;
 }
 
-
 // The dynamometer: a second-order low-pass of unit static gain (its resonance fn, zeta),
 // discretized by zero-order hold at its rate.
 Eigen::VectorXd dynamometer(const Eigen::VectorXd& torque, double fs, double fn, double zeta) {
@@ -119,11 +118,7 @@ std::shared_ptr<const KindSpec> SweepFrfKind::parse_synth(const YAML::Node& sect
                {"folder", "sample_rate_hz", "torque_constant_Nm_per_A", "current_resolution_A",
                 "current_noise_A", "speed_noise_rpm", "sweep", "cuts", "dynamometer"},
                "spindle");
-  s->folder = r.optional_string(n, "folder", "spindle").value_or(s->folder);
-  if (s->folder.empty() || s->folder.front() == '/' || s->folder.back() == '/' ||
-      s->folder.find("..") != std::string::npos || s->folder.find('\\') != std::string::npos) {
-    r.error("spindle.folder", "must be a relative folder path such as spindle");
-  }
+  s->folder = read_synth_folder(n, "spindle", s->folder, r);
   read(r, n, "sample_rate_hz", "spindle", s->fs_hz);
   read(r, n, "torque_constant_Nm_per_A", "spindle", s->kt_nm_per_a);
   read(r, n, "current_resolution_A", "spindle", s->current_resolution_A);

@@ -4,7 +4,8 @@
 // continuous time). Reference: truth.yaml's poles, zeros, static and high-frequency gains,
 // computed by the writer from Table 3.1's coefficients; the tolerances (poles within
 // 0.5 %, damping within 10 %). A copy of the x test with an odd order is skipped naming its
-// test.yaml and key, the others still run, and results.json is valid against the schema.
+// test.yaml and key, the others still run, and results.json is valid against the schema. The y
+// test runs with the default band (its band_hz removed).
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
@@ -62,6 +63,12 @@ class DynoFrfE2E : public ::testing::Test {
     yaml.replace(at, 8, "order: 5");
     dir_->write("campaign/forcerec/odd/test.yaml", yaml);
     fs::copy_file(campaign / "forcerec/hammer/x/hits.f32", campaign / "forcerec/odd/hits.f32");
+    // The y test without band_hz: the default band [50, min(4000, 0.4 rate)] Hz.
+    std::string y = read_text(campaign / "forcerec/hammer/y/test.yaml");
+    const auto band = y.find("band_hz:");
+    ASSERT_NE(band, std::string::npos) << y;
+    y.erase(band, y.find('\n', band) - band + 1);
+    dir_->write("campaign/forcerec/hammer/y/test.yaml", y);
     ReportOptions o;
     o.pdf = false;
     o.jobs = 2;
@@ -116,6 +123,9 @@ TEST_F(DynoFrfE2E, Table31ModelsAreRecovered) {
     ASSERT_EQ(t.at("status"), "ok") << t.dump(2) << log_;
     const YAML::Node tr = (*truth_)["tests"][id];
     EXPECT_EQ(t.at("hits_used"), 5) << id;
+    // y runs with the default band: [50, min(4000, 0.4 x 51200)] Hz.
+    const double band_hi = std::string(axis) == "y" ? 4000.0 : 3500.0;
+    EXPECT_EQ(t.at("band_hz"), json::array({50.0, band_hi})) << id;
     EXPECT_EQ(t.at("order"), 6) << id;
     expect_pairs(t.at("poles"), tr["modes"], kPoleFnTol, kPoleZetaTol, id + " poles");
     expect_pairs(t.at("zeros"), tr["zeros"], kZeroFnTol, kZeroZetaTol, id + " zeros");
