@@ -8,6 +8,7 @@
 #include "app/core/signals.h"
 #include "app/core/yaml_reader.h"
 #include "app/kinds/common/conditions.h"
+#include "app/kinds/common/frf_figure.h"
 #include "app/kinds/forcerec/forcerec_kinds.h"
 #include "app/report/figure_jobs.h"
 #include "app/report/results_json.h"
@@ -179,39 +180,21 @@ std::string DynoFrfKind::note(const TestOutcome& out) const {
 
 render::Figure dyno_frf_figure(const DynoFrfResult& r) {
   const auto& f = r.frf;
-  std::vector<double> x, mag, fit, ph, phfit, coh;
+  FrfFigureData d;
   // The band and a little around it: the model is meant for the band only.
   const double lo = 0.5 * r.band_lo_hz, hi = 1.25 * r.band_hi_hz;
   for (Eigen::Index i = 0; i < f.f_hz.size(); ++i) {
     const double fr = f.f_hz(i);
     if (fr < lo || fr > hi) continue;
     const std::complex<double> g = forcerec::transfer_response(r.fit.model, fr);
-    x.push_back(fr);
-    mag.push_back(std::abs(f.h1(i)));
-    fit.push_back(std::abs(g));
-    ph.push_back(std::arg(f.h1(i)) * kRadToDeg);
-    phfit.push_back(std::arg(g) * kRadToDeg);
-    coh.push_back(f.coherence(i));
+    d.f_hz.push_back(fr);
+    d.measured_mag.push_back(std::abs(f.h1(i)));
+    d.model_mag.push_back(std::abs(g));
+    d.measured_phase_deg.push_back(std::arg(f.h1(i)) * kRadToDeg);
+    d.model_phase_deg.push_back(std::arg(g) * kRadToDeg);
+    d.coherence.push_back(f.coherence(i));
   }
-  render::Figure fig;
-  fig.height_in = 5.0;
-  fig.share_x = true;
-  render::Axes& m = fig.panels.emplace_back();
-  m.y_label = "|H| [N/N]";
-  m.log_y = true;
-  m.relative_height = 2;
-  m.series = {{x, mag, "H1 (hits)", render::SeriesStyle::kLine, "#0072B2"},
-              {x, fit, "fit, eq. 3.1", render::SeriesStyle::kDashedLine, "#D55E00"}};
-  render::Axes& p = fig.panels.emplace_back();
-  p.y_label = "phase [deg]";
-  p.series = {{x, ph, "", render::SeriesStyle::kLine, "#0072B2"},
-              {x, phfit, "", render::SeriesStyle::kDashedLine, "#D55E00"}};
-  render::Axes& c = fig.panels.emplace_back();
-  c.x_label = "frequency [Hz]";
-  c.y_label = "coherence";
-  c.y_range = render::Range{0, 1.05};
-  c.series = {{x, coh, "", render::SeriesStyle::kLine, "#009E73"}};
-  return fig;
+  return frf_model_figure(d, {"|H| [N/N]", "H1 (hits)", "fit, eq. 3.1", ""});
 }
 
 void DynoFrfKind::figures(const CampaignResults&, const TestOutcome& out, FigureJobs& jobs) const {

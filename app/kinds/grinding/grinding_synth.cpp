@@ -173,7 +173,6 @@ GrindingTestSynth read_test(const YAML::Node& t, const std::string& path, YamlRe
   return s;
 }
 
-
 void emit_variances(YAML::Emitter& y, const char* key, const std::array<double, 4>& v) {
   y << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginMap;
   for (std::size_t k = 0; k < 4; ++k) y << YAML::Key << kStates[k] << YAML::Value << v[k];
@@ -435,8 +434,8 @@ int write_grinding_tests(const GrindingSynthSpec& s, SynthContext& ctx) {
       pc[kStates[static_cast<std::size_t>(c)]] =
           synth_number_list(std::vector<double>(col.data(), col.data() + col.size()));
     }
-    pc["Ra_um"] = synth_number_list(std::vector<double>(series.Ra_true_um.data(),
-                                              series.Ra_true_um.data() + series.Ra_true_um.size()));
+    pc["Ra_um"] = synth_number_list(std::vector<double>(
+        series.Ra_true_um.data(), series.Ra_true_um.data() + series.Ra_true_um.size()));
     if (series.roundness_true_um.size() > 0 && series.roundness_true_um.allFinite()) {
       pc["roundness_um"] = synth_number_list(
           std::vector<double>(series.roundness_true_um.data(),

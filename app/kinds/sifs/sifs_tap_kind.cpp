@@ -3,9 +3,11 @@
 #include <complex>
 #include <filesystem>
 
+#include "analysis/common/constants.h"
 #include "app/core/format.h"
 #include "app/formats/frf_text.h"
 #include "app/formats/uff58.h"
+#include "app/kinds/common/frf_figure.h"
 #include "app/kinds/common/hammer_hits.h"
 #include "app/kinds/sifs/sifs_common.h"
 #include "app/kinds/sifs/sifs_kinds.h"
@@ -19,8 +21,6 @@ namespace chatterlab::app {
 using nlohmann::json;
 
 namespace {
-
-constexpr double kRadToDeg = 57.29577951308232;
 
 // Lowest f > 0 on a 1 Hz grid up to nyquist_hz with | |G| - 1 | >= 0.1 (format step 7,
 // "before"); nyquist_hz when there is none.
@@ -210,42 +210,23 @@ std::string SifsTapKind::note(const TestOutcome& out) const {
 
 render::Figure sifs_tap_figure(const SifsTapResult& t) {
   const auto& f = t.frf;
-  std::vector<double> x, mag, fit, lo, hi, ph, phfit, coh;
+  FrfFigureData d;
   for (Eigen::Index i = 0; i < f.f_hz.size(); ++i) {
     const double fr = f.f_hz(i);
     if (fr > t.data->fs_hz * 0.45) break;
     const std::complex<double> g = sifs::sensor_response(t.model.modes, fr);
-    x.push_back(fr);
-    mag.push_back(std::abs(f.h1(i)));
-    fit.push_back(std::abs(g));
+    d.f_hz.push_back(fr);
+    d.measured_mag.push_back(std::abs(f.h1(i)));
+    d.model_mag.push_back(std::abs(g));
     const double sm = t.confidence.magnitude_sigma.size() > i ? t.confidence.magnitude_sigma(i) : 0;
-    lo.push_back(std::abs(f.h1(i)) - 2 * sm);
-    hi.push_back(std::abs(f.h1(i)) + 2 * sm);
-    ph.push_back(std::arg(f.h1(i)) * kRadToDeg);
-    phfit.push_back(std::arg(g) * kRadToDeg);
-    coh.push_back(f.coherence(i));
+    d.band_lo.push_back(std::abs(f.h1(i)) - 2 * sm);
+    d.band_hi.push_back(std::abs(f.h1(i)) + 2 * sm);
+    d.measured_phase_deg.push_back(std::arg(f.h1(i)) * kRadToDeg);
+    d.model_phase_deg.push_back(std::arg(g) * kRadToDeg);
+    d.coherence.push_back(f.coherence(i));
   }
-  render::Figure fig;
-  fig.height_in = 5.0;
-  fig.share_x = true;
-  render::Axes& m = fig.panels.emplace_back();
-  m.y_label = "|G| [N/N]";
-  m.log_y = true;
-  m.relative_height = 2;
-  m.series = {{x, mag, "H1 (taps)", render::SeriesStyle::kLine, "#0072B2"},
-              {x, fit, "fit, eq. 4-27", render::SeriesStyle::kDashedLine, "#D55E00"},
-              {x, lo, "H1 +- 2 sigma (eq. 6-3)", render::SeriesStyle::kDashedLine, "#56B4E9"},
-              {x, hi, "", render::SeriesStyle::kDashedLine, "#56B4E9"}};
-  render::Axes& p = fig.panels.emplace_back();
-  p.y_label = "phase [deg]";
-  p.series = {{x, ph, "", render::SeriesStyle::kLine, "#0072B2"},
-              {x, phfit, "", render::SeriesStyle::kDashedLine, "#D55E00"}};
-  render::Axes& c = fig.panels.emplace_back();
-  c.x_label = "frequency [Hz]";
-  c.y_label = "coherence";
-  c.y_range = render::Range{0, 1.05};
-  c.series = {{x, coh, "", render::SeriesStyle::kLine, "#009E73"}};
-  return fig;
+  return frf_model_figure(d,
+                          {"|G| [N/N]", "H1 (taps)", "fit, eq. 4-27", "H1 +- 2 sigma (eq. 6-3)"});
 }
 
 // <test>/frf.csv (f_hz, re, im: H1 in sensor N per hammer N, coherence, fit_re, fit_im: the

@@ -57,12 +57,29 @@ class DynoFrfE2E : public ::testing::Test {
     const fs::path campaign = dir_->path() / "campaign";
     const fs::path report = dir_->path() / "report";
     synthesize_campaign(dir_->write("spec.yaml", kSpec), campaign);
-    std::string yaml = read_text(campaign / "forcerec/hammer/x/test.yaml");
-    const auto at = yaml.find("order: 6");
-    ASSERT_NE(at, std::string::npos) << yaml;
-    yaml.replace(at, 8, "order: 5");
-    dir_->write("campaign/forcerec/odd/test.yaml", yaml);
-    fs::copy_file(campaign / "forcerec/hammer/x/hits.f32", campaign / "forcerec/odd/hits.f32");
+    // Broken copies of the x test, one thing changed each.
+    const std::string x_yaml = read_text(campaign / "forcerec/hammer/x/test.yaml");
+    const auto broken = [&](const std::string& name, const std::string& from,
+                            const std::string& to) {
+      std::string yaml = x_yaml;
+      const auto at = yaml.find(from);
+      ASSERT_NE(at, std::string::npos) << from << " in " << yaml;
+      yaml.replace(at, from.size(), to);
+      dir_->write("campaign/forcerec/" + name + "/test.yaml", yaml);
+      fs::copy_file(campaign / "forcerec/hammer/x/hits.f32",
+                    campaign / ("forcerec/" + name + "/hits.f32"));
+    };
+    broken("odd", "order: 6", "order: 5");
+    broken("axis-w", "axis: x", "axis: w");
+    broken("band-above-nyquist", "band_hz: [50, 3500]", "band_hz: [50, 30000]");
+    // At 100 Hz the default band [50, 0.4 x 100] Hz is empty.
+    broken("slow-default-band", "sample_rate_hz: 51200\nd", "sample_rate_hz: 100\nd");
+    {
+      std::string yaml = read_text(campaign / "forcerec/slow-default-band/test.yaml");
+      const auto band = yaml.find("band_hz:");
+      yaml.erase(band, yaml.find('\n', band) - band + 1);
+      dir_->write("campaign/forcerec/slow-default-band/test.yaml", yaml);
+    }
     // The y test without band_hz: the default band [50, min(4000, 0.4 rate)] Hz.
     std::string y = read_text(campaign / "forcerec/hammer/y/test.yaml");
     const auto band = y.find("band_hz:");
@@ -146,6 +163,31 @@ TEST_F(DynoFrfE2E, AnOddOrderIsSkippedNamingItsKeyAndTheOthersRun) {
   EXPECT_NE(reason.find("forcerec/odd/test.yaml"), std::string::npos) << reason;
   EXPECT_NE(reason.find("order"), std::string::npos) << reason;
   EXPECT_EQ(results_->at("tests").at("forcerec/hammer/y").at("status"), "ok");
+}
+
+// Each message names the test.yaml and the key (the other tests still run: see above).
+TEST_F(DynoFrfE2E, BadKeysAreSkippedWithTheirMessages) {
+  const auto reason = [](const std::string& id) {
+    const json& t = results_->at("tests").at(id);
+    EXPECT_EQ(t.at("status"), "skipped") << id;
+    return t.at("skip_reason").get<std::string>();
+  };
+  EXPECT_NE(reason("forcerec/axis-w")
+                .find("forcerec/axis-w/test.yaml: key 'axis' must be x, y or "
+                      "z, not 'w'"),
+            std::string::npos)
+      << reason("forcerec/axis-w");
+  EXPECT_NE(reason("forcerec/band-above-nyquist")
+                .find("key 'band_hz' ends at 30000 Hz, above the Nyquist frequency (25600 Hz)"),
+            std::string::npos)
+      << reason("forcerec/band-above-nyquist");
+  EXPECT_NE(reason("forcerec/slow-default-band")
+                .find("key 'band_hz' is required at sample_rate_hz 100: the default band [50, "
+                      "0.4 sample_rate_hz] Hz is empty below 125 Hz"),
+            std::string::npos)
+      << reason("forcerec/slow-default-band");
+  EXPECT_NE(reason("forcerec/odd").find("key 'order' must be even"), std::string::npos)
+      << reason("forcerec/odd");
 }
 
 TEST_F(DynoFrfE2E, ResultsValidateAgainstTheSchema) {
