@@ -219,10 +219,14 @@ TestSpec load_test(const fs::path& campaign_root, const fs::path& test_yaml,
     }
   }
   read_channels(root, r, t);
+  const TestKind* kind = kinds.find(t.kind);
   if (const YAML::Node ref = root["reference"]; ref && ref.IsMap()) {
+    const std::vector<std::string> blocks =
+        kind ? kind->reference_blocks() : std::vector<std::string>{};
     for (const auto& kv : ref) {
       if (!is_name_key(kv.first)) continue;  // refused by load_yaml_file already
       const std::string key = kv.first.Scalar();
+      if (std::find(blocks.begin(), blocks.end(), key) != blocks.end()) continue;  // the kind's
       double v = 0;
       if (kv.second.IsScalar() && YAML::convert<double>::decode(kv.second, v) && std::isfinite(v)) {
         t.reference[key] = v;
@@ -232,7 +236,7 @@ TestSpec load_test(const fs::path& campaign_root, const fs::path& test_yaml,
     }
   }
 
-  if (const TestKind* kind = kinds.find(t.kind)) {
+  if (kind) {
     t.params = kind->parse(root, r);
     for (const auto& k : kind->keys()) known.insert(k);
   } else if (!t.kind.empty()) {

@@ -27,6 +27,7 @@ void register_builtin_kinds(KindRegistry& r) {
   r.add(std::make_unique<SweepFrfKind>());
   r.add(std::make_unique<SpindleCurrentKind>());
   r.add(std::make_unique<DynoFrfKind>());
+  r.add(std::make_unique<ForceRecordKind>());
 }
 
 }  // namespace chatterlab::app

@@ -75,6 +75,9 @@ class TestKind {
                                                                YamlReader& /*r*/) const {
     return nullptr;
   }
+  // Keys under test.yaml `reference` that are blocks this kind parses itself (force-record's
+  // `reference.force: {file, channels}`), not the common numbers of known values.
+  virtual std::vector<std::string> reference_blocks() const { return {}; }
   // Campaign-wide requirements checked after loading (a cut needs campaign.yaml's tool):
   // returns the problems, each naming the file and key.
   virtual std::vector<std::string> check_campaign(const CampaignSpec&, const TestSpec&) const {

@@ -86,11 +86,13 @@ std::vector<std::string> DynoFrfKind::check_record(const TestSpec& t, double dur
 }
 
 std::vector<std::string> DynoFrfKind::provides(const TestSpec& t) const {
-  return {value::dyno_model(t.id)};
+  return {value::dyno_model(t.id), value::dyno_axis(t.kind_spec<DynoFrfSpec>().axis)};
 }
 
 std::string DynoFrfKind::describe_value(const std::string& name) const {
-  return name.rfind("dyno-model:", 0) == 0 ? "the dynamometer model of " + name.substr(11) : "";
+  if (name.rfind("dyno-model:", 0) == 0) return "the dynamometer model of " + name.substr(11);
+  if (name.rfind("dyno-axis:", 0) == 0) return "a dynamometer model of axis " + name.substr(10);
+  return "";
 }
 
 void DynoFrfKind::run(const TestSpec& t, const CampaignValues&, const RunContext&,
@@ -146,7 +148,9 @@ void DynoFrfKind::run(const TestSpec& t, const CampaignValues&, const RunContext
 }
 
 void DynoFrfKind::publish(const TestOutcome& out, CampaignValues& values) const {
-  values.put(value::dyno_model(out.spec->id), out.spec->id, out.result_of<DynoFrfResult>().model);
+  const auto& m = out.result_of<DynoFrfResult>().model;
+  values.put(value::dyno_model(out.spec->id), out.spec->id, m);
+  values.put(value::dyno_axis(m->axis), out.spec->id, m);
 }
 
 json DynoFrfKind::results(const TestOutcome& out) const {

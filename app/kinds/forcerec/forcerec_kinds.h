@@ -4,11 +4,18 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
+#include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "analysis/forcerec/akf.h"
+#include "analysis/forcerec/deconvolution.h"
+#include "analysis/forcerec/force_metrics.h"
 #include "analysis/forcerec/model.h"
+#include "analysis/forcerec/smo.h"
 #include "analysis/forcerec/transfer_fit.h"
 #include "analysis/sifs/sensor_model.h"
 #include "app/kinds/common/hammer_hits.h"
@@ -20,6 +27,9 @@ namespace chatterlab::app {
 namespace value {
 // std::shared_ptr<const DynoModel> of the dyno-frf test `id`.
 inline std::string dyno_model(const std::string& id) { return "dyno-model:" + id; }
+// The same value under the axis ('x', 'y', 'z'): every dyno-frf test of the axis provides it, so
+// a force record finds the campaign's models of an axis without naming them.
+inline std::string dyno_axis(char axis) { return std::string("dyno-axis:") + axis; }
 }  // namespace value
 
 // What a dyno-frf test gives the force records: the fitted model of one axis.
@@ -76,5 +86,103 @@ class DynoFrfKind : public TestKind {
 
 // The measured FRF over the model in the fit band (magnitude, phase) and the coherence.
 render::Figure dyno_frf_figure(const DynoFrfResult& r);
+
+// ---- force-record --------------------------------------------------------------------------
+struct ForceRecordSpec : KindSpec {
+  std::string operation;  // report only
+  double spindle_rpm = 0.0;
+  std::optional<std::pair<double, double>> air_window_s;
+  std::map<char, double> noise_var_N2;  // required per axis when air_window_s is absent
+  std::optional<std::pair<double, double>> cut_window_s;
+  std::map<char, std::string> frf_tests;  // axis -> dyno-frf test id
+  // reference.force: the known force (interval means), raw floats, no calibration.
+  bool has_reference = false;
+  DataSpec reference;
+  // akf_S_N2: knee (nullopt) or a number.
+  std::optional<double> akf_S_N2;
+  forcerec::SmoOptions smo;
+  forcerec::AlphaRule rd_rule = forcerec::AlphaRule::kDiscrepancy;
+  double rd_alpha = 0.0;  // with kFixed
+};
+
+// One method on one axis with one model.
+struct ForceMethodResult {
+  std::string id;  // akf | smo | rd
+  bool ok = false;
+  std::string message;  // why it failed
+  std::vector<std::string> warnings;
+  double runtime_s = 0.0;
+  Eigen::VectorXd force_N;
+  forcerec::Harmonics harmonics;
+  std::optional<forcerec::ReferenceError> error;  // with a reference
+  // The tuning: akf S (N^2), rd alpha; smo rho and delta are the options.
+  double tuning = 0.0;
+  forcerec::AkfResult akf;  // force moved out (E(S) curve kept)
+  forcerec::SmoResult smo;  // force moved out
+  forcerec::DeconvolutionResult rd;  // force moved out (L-curve kept)
+};
+
+// An axis with a model other than the one it is reconstructed with (004 sec. 4.5: a model that
+// drifted): each method's force error against the reference.
+struct ForceOtherModel {
+  std::string frf_test;
+  std::array<ForceMethodResult, 3> methods;
+};
+
+struct ForceAxisResult {
+  char axis = 'x';
+  bool done = false;
+  std::string skip_reason;
+  std::string frf_test;
+  std::shared_ptr<const DynoModel> model;
+  double noise_var_N2 = 0.0;
+  bool noise_from_air = false;
+  Eigen::VectorXd measured_N;
+  Eigen::VectorXd reference_N;  // empty without a reference
+  forcerec::Harmonics measured_harmonics;
+  std::optional<double> measured_nrmse_pct;
+  std::array<ForceMethodResult, 3> methods;  // akf, smo, rd
+  std::vector<ForceOtherModel> other_models;
+};
+
+struct ForceRecordResult : KindResult {
+  Eigen::Index samples = 0;
+  double sample_rate_hz = 0.0;
+  double tooth_freq_hz = 0.0;
+  int harmonic_count = 0;
+  int teeth = 0;
+  double cut_begin_s = 0.0, cut_end_s = 0.0;
+  forcerec::IndexWindow harmonic_window;
+  forcerec::IndexWindow evaluation_window;
+  std::vector<ForceAxisResult> axes;  // x, y (z when recorded)
+};
+
+// The force file of a force-record test, relative to results.json: forces/<id, / as __>.f32.
+std::string force_file_path(const std::string& test_id);
+
+class ForceRecordKind : public TestKind {
+ public:
+  std::string name() const override { return "force-record"; }
+  std::vector<std::string> keys() const override;
+  std::vector<std::string> reference_blocks() const override { return {"force"}; }
+  std::shared_ptr<const KindSpec> parse(const YAML::Node& root, YamlReader& r) const override;
+  std::vector<std::string> check_campaign(const CampaignSpec& c,
+                                          const TestSpec& t) const override;
+  std::vector<std::filesystem::path> input_files(const TestSpec& t) const override;
+  std::vector<std::string> required_channels(const TestSpec&) const override;
+  std::vector<std::string> check_record(const TestSpec& t, double duration_s) const override;
+  std::vector<Need> needs(const TestSpec& t) const override;
+  void run(const TestSpec& t, const CampaignValues& in, const RunContext& ctx,
+           TestOutcome& out) const override;
+  nlohmann::json results(const TestOutcome& out) const override;
+  void write_files(const TestOutcome& out, const std::filesystem::path& report_dir) const override;
+  std::string note(const TestOutcome& out) const override;
+  void figures(const CampaignResults&, const TestOutcome& out, FigureJobs& jobs) const override;
+  nlohmann::json report_section(const CampaignResults& r,
+                                const std::vector<const TestOutcome*>& ok_tests,
+                                const FigureSet& figures) const override;
+  void compare_truth(const TruthInput& in, const TestOutcome& out,
+                     TruthComparison& c) const override;
+};
 
 }  // namespace chatterlab::app

@@ -57,9 +57,9 @@ std::string spec_text() {
 const char* kEstimation =
     "estimation: {window_s: 0.02, max_passes: 1, repeat_runs: 2, settle_revolutions: 5}\n";
 
-// A kind of the contract's section 4, which this version skips as unknown.
+// A misspelt kind, which the report skips as unknown.
 const char* kForceRecordTest =
-    "kind: force-record\nsample_rate_hz: 10240\ndata: {file: forces.csv}\nspindle_rpm: 15345\n";
+    "kind: force-recrod\nsample_rate_hz: 10240\ndata: {file: forces.csv}\nspindle_rpm: 15345\n";
 
 std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 
@@ -164,7 +164,7 @@ TEST(ResultsSchema, ReportOfASynthCampaignValidatesAndBrokenCopiesFail) {
   }
   EXPECT_EQ(tests["dynamometer/x"]["status"], "skipped");
   EXPECT_NE(tests["dynamometer/x"]["skip_reason"].get<std::string>().find(
-                "'force-record' is not a known test kind"),
+                "'force-recrod' is not a known test kind"),
             std::string::npos);
   EXPECT_TRUE(r["groups"]["dyno-slot"].contains("Ktc_N_m2"));
   EXPECT_EQ(r["identified_from"], "cuts/constant");
