@@ -124,6 +124,8 @@ std::array<ForceMethodResult, 3> reconstruct(const DynoModel& model, const Eigen
     take_summary(smo, smo.smo.summary);
     if (smo.ok) {
       smo.tuning = o.rho_N_s;
+      smo.delta_N = o.delta_N;
+      smo.a22s_1_s = o.a22s_1_s;
       smo.force_N = std::move(smo.smo.force);
       smo.smo.output_error_N.resize(0);
     }
@@ -150,7 +152,9 @@ std::array<ForceMethodResult, 3> reconstruct(const DynoModel& model, const Eigen
       m.force_N.resize(0);
       continue;
     }
+    m.samples = m.force_N.size();
     if (in.harmonic_window.size() > 0) {
+      m.has_harmonics = true;
       m.harmonics = forcerec::tooth_harmonics(m.force_N, in.harmonic_window, in.fs,
                                               in.tooth_freq_hz, in.harmonic_count);
     }
@@ -168,9 +172,9 @@ json method_json(const ForceMethodResult& m, double fs, bool with_force_details)
     j["message"] = m.message;
     return j;
   }
-  j["samples"] = m.force_N.size();
+  j["samples"] = m.samples;
   j["runtime_s"] = m.runtime_s;
-  j["mean_N"] = m.harmonics.mean_N;
+  j["mean_N"] = m.has_harmonics ? json(m.harmonics.mean_N) : json(nullptr);
   j["harmonics_N"] = m.harmonics.amplitudes_N;
   if (m.error) {
     j["nrmse_pct"] = m.error->nrmse_pct;
@@ -190,6 +194,8 @@ json method_json(const ForceMethodResult& m, double fs, bool with_force_details)
     }
   } else if (m.id == "smo") {
     j["rho_N_s"] = m.tuning;
+    j["delta_N"] = m.delta_N;
+    j["a22s_1_s"] = m.a22s_1_s;
     if (with_force_details) {
       j["B2_1_s"] = m.smo.B2_1_s;
       j["corner_hz"] = number_or_null(m.smo.corner_hz);
@@ -476,6 +482,10 @@ void ForceRecordKind::run(const TestSpec& t, const CampaignValues& in, const Run
       ax.measured_harmonics = forcerec::tooth_harmonics(ax.measured_N, res->harmonic_window, fs,
                                                         res->tooth_freq_hz, res->harmonic_count);
     }
+    if (ax.reference_N.size() == N && res->harmonic_window.size() > 0) {
+      ax.reference_harmonics = forcerec::tooth_harmonics(
+          ax.reference_N, res->harmonic_window, fs, res->tooth_freq_hz, res->harmonic_count);
+    }
     if (ax.reference_N.size() == N) {
       ax.measured_nrmse_pct =
           forcerec::nrmse_pct(ax.measured_N, ax.reference_N, res->evaluation_window);
@@ -600,10 +610,15 @@ json ForceRecordKind::results(const TestOutcome& out) const {
     j["frf_test"] = ax.frf_test;
     j["noise_var_N2"] = ax.noise_var_N2;
     j["noise_var_source"] = ax.noise_from_air ? "air_window_s" : "noise_var_N2";
-    json meas = {{"mean_N", ax.measured_harmonics.mean_N},
+    const bool harm = r.harmonic_window.size() > 0;
+    json meas = {{"mean_N", harm ? json(ax.measured_harmonics.mean_N) : json(nullptr)},
                  {"harmonics_N", ax.measured_harmonics.amplitudes_N}};
     if (ax.measured_nrmse_pct) meas["nrmse_pct"] = *ax.measured_nrmse_pct;
     j["measured"] = meas;
+    if (ax.reference_harmonics) {
+      j["reference"] = {{"mean_N", ax.reference_harmonics->mean_N},
+                        {"harmonics_N", ax.reference_harmonics->amplitudes_N}};
+    }
     json methods = json::object();
     for (const auto& m : ax.methods) {
       methods[m.id] = method_json(m, r.sample_rate_hz, true);

@@ -74,6 +74,11 @@ render::Figure spectrum_figure(const ForceRecordResult& r, const ForceAxisResult
     for (std::size_t h = 0; h < n; ++h) f[h] = (h + 1.0) * r.tooth_freq_hz;
     return f;
   };
+  if (ax.reference_harmonics) {
+    const auto& rh = ax.reference_harmonics->amplitudes_N;
+    top.series.emplace_back(f_of(rh.size()), rh, "reference", render::SeriesStyle::kPoints,
+                            "#000000");
+  }
   const auto& mh = ax.measured_harmonics.amplitudes_N;
   top.series.emplace_back(f_of(mh.size()), mh, "measured", render::SeriesStyle::kLinePoints,
                           "#999999");
@@ -246,6 +251,16 @@ json ForceRecordKind::report_section(const CampaignResults&,
                       {"fit", ""},
                       {"lag", ""},
                       {"runtime", ""}});
+      if (ax.reference_harmonics) {
+        rows.push_back({{"method", "reference"},
+                        {"tuning", ""},
+                        {"mean_N", fmt_sig(ax.reference_harmonics->mean_N, 4)},
+                        {"h", harmonics_text(ax.reference_harmonics->amplitudes_N)},
+                        {"nrmse", ""},
+                        {"fit", ""},
+                        {"lag", ""},
+                        {"runtime", ""}});
+      }
       json cmp = {{"id", id}, {"axis", a}, {"measured", ref ? pct(*ax.measured_nrmse_pct) : "n/a"}};
       for (const auto& m : ax.methods) {
         if (!m.ok) {

@@ -112,11 +112,14 @@ struct ForceMethodResult {
   std::string message;  // why it failed
   std::vector<std::string> warnings;
   double runtime_s = 0.0;
-  Eigen::VectorXd force_N;
+  Eigen::VectorXd force_N;  // emptied for other models (only their figures are kept)
+  Eigen::Index samples = 0;  // of the reconstructed force
+  bool has_harmonics = false;
   forcerec::Harmonics harmonics;
   std::optional<forcerec::ReferenceError> error;  // with a reference
   // The tuning: akf S (N^2), rd alpha; smo rho and delta are the options.
   double tuning = 0.0;
+  double delta_N = 0.0, a22s_1_s = 0.0;  // smo
   forcerec::AkfResult akf;  // force moved out (E(S) curve kept)
   forcerec::SmoResult smo;  // force moved out
   forcerec::DeconvolutionResult rd;  // force moved out (L-curve kept)
@@ -140,6 +143,7 @@ struct ForceAxisResult {
   Eigen::VectorXd measured_N;
   Eigen::VectorXd reference_N;  // empty without a reference
   forcerec::Harmonics measured_harmonics;
+  std::optional<forcerec::Harmonics> reference_harmonics;  // with a reference
   std::optional<double> measured_nrmse_pct;
   std::array<ForceMethodResult, 3> methods;  // akf, smo, rd
   std::vector<ForceOtherModel> other_models;
