@@ -332,6 +332,33 @@ TEST(ForcerecAkf, SteadyStateAgreesWithTheTimeVaryingFilterAfter50ms) {
   }
 }
 
+// The format's time-varying filter is invariant when R, S and P0 are scaled together (akf.h:
+// P_k scales by c by induction, the gain K_k = P_k G^T (G P_k G^T + R)^-1 does not change).
+// In floating point the invariance is exact for a power of two (every product and quotient
+// scales exactly): the estimates must be bit-identical. For c = 1e-3 each scaling rounds, and
+// the start from P0 = 1e6 I (covariances 1e8 times R) amplifies that rounding in the first
+// samples (1.5 N at sample 14), a difference that decays like the closed loop's rho^k (0.965^k:
+// 1.5 N x 0.965^512 = 2e-8 N); after 0.05 s, where the format evaluates, the two agree to 1e-8
+// of the force's size (measured 1.2e-9). (At c = 1e3, P0 = 1e9 I, the time-varying filter itself breaks
+// down: the reason the kind runs the steady-state filter, akf.h.)
+TEST(ForcerecAkf, TimeVaryingFilterIsInvariantUnderScalingRSAndP0Together) {
+  const Record r = x_record(6000);
+  const double S = 0.01, P0 = 1e6;
+  const VectorXd a = time_varying_akf(r.model, r.y, S, kNoiseVarX, P0);
+  const double size = a.cwiseAbs().maxCoeff();
+  for (double c : {1.0 / 1024, 1024.0}) {
+    const VectorXd b = time_varying_akf(r.model, r.y, c * S, c * kNoiseVarX, c * P0);
+    EXPECT_EQ((b - a).cwiseAbs().maxCoeff(), 0.0) << c;
+  }
+  const Index skip = static_cast<Index>(std::ceil(0.05 * kFs));
+  const VectorXd b = time_varying_akf(r.model, r.y, 1e-3 * S, 1e-3 * kNoiseVarX, 1e-3 * P0);
+  EXPECT_LT((b - a).tail(a.size() - skip).cwiseAbs().maxCoeff(), 1e-8 * size);
+  // P0 left unscaled (S and R by 1/1024 only): the start-up differs, so the checks above are
+  // not vacuous.
+  const VectorXd d = time_varying_akf(r.model, r.y, S / 1024, kNoiseVarX / 1024, P0);
+  EXPECT_GT((d - a).head(50).cwiseAbs().maxCoeff(), 1e-6 * size);
+}
+
 TEST(ForcerecAkf, ModalAndDenseFormsAgree) {
   const Record r = x_record(6000);
   const AkfFilter f = design_akf(r.model, 0.01, kNoiseVarX);

@@ -21,6 +21,7 @@
 
 #include "analysis/common/constants.h"
 #include "analysis/forcerec/model.h"
+#include "analysis/forcerec/table31.h"
 #include "tests/support/expect_input_error.h"
 #include "tests/support/record_property.h"
 
@@ -34,24 +35,7 @@ using testing::expect_input_error;
 using ::testing::HasSubstr;
 using testing::record_and_print;
 
-// 004 Table 3.1 (seeds/004_33a2a1f867e70be0.txt, lines 873-886; notes/004.md section 2
-// restates them identically): i = 1..6, units s^-i.
-struct Table31Axis {
-  const char* name;
-  std::array<double, 6> a;
-  std::array<double, 6> b;
-};
-const Table31Axis kTable31[] = {
-    {"Hxx",
-     {3788, 2.563E8, 6.425E11, 2.164E16, 2.709E19, 6.019E23},
-     {3566, 8.364E7, 7.676E11, 1.432E16, 3.933E19, 6.0186E23}},
-    {"Hyy",
-     {3308, 2.383E8, 5.580E11, 1.624E16, 1.934E19, 3.376E23},
-     {2226, 5.652E7, 4.639E11, 9.460E15, 2.207E19, 3.377E23}},
-    {"Hzz",
-     {2788, 3.308E8, 5.375E11, 3.324E16, 2.087E19, 9.319E23},
-     {6150, 1.507E8, 1.425E12, 2.790E16, 5.788E19, 9.731E23}},
-};
+// 004 Table 3.1 (analysis/forcerec/table31.h, from seeds/004 lines 873-886).
 
 Eigen::VectorXd vec(const std::array<double, 6>& x) {
   return Eigen::Map<const Eigen::VectorXd>(x.data(), 6);
@@ -60,9 +44,9 @@ Eigen::VectorXd vec(const std::array<double, 6>& x) {
 // G(j 2 pi f) of 004 eq. 3.1 by Horner's rule on the table's coefficients (no roots involved).
 cd table_response(const Table31Axis& m, double f_hz) {
   const cd s(0.0, kTwoPi * f_hz);
-  cd num = m.b[0], den = 1.0;
-  for (int i = 0; i < 6; ++i) den = den * s + m.a[static_cast<std::size_t>(i)];
-  for (int i = 1; i < 6; ++i) num = num * s + m.b[static_cast<std::size_t>(i)];
+  cd num = m.num[0], den = 1.0;
+  for (int i = 0; i < 6; ++i) den = den * s + m.den[static_cast<std::size_t>(i)];
+  for (int i = 1; i < 6; ++i) num = num * s + m.num[static_cast<std::size_t>(i)];
   return num / den;
 }
 
@@ -91,8 +75,8 @@ struct Truth {
 
 Truth truth_of(const Table31Axis& m) {
   std::vector<double> den{1.0}, num;
-  for (double x : m.a) den.push_back(x);
-  for (double x : m.b) num.push_back(x);
+  for (double x : m.den) den.push_back(x);
+  for (double x : m.num) num.push_back(x);
   Truth t;
   for (const cd& p : roots_upper(den)) {
     EXPECT_GT(p.imag(), 0.0) << m.name << ": Table 3.1's poles are three complex pairs";
@@ -105,8 +89,8 @@ Truth truth_of(const Table31Axis& m) {
       t.real_zeros.push_back(z.real());
     }
   }
-  t.dc_gain = m.b[5] / m.a[5];
-  t.b1 = m.b[0];
+  t.dc_gain = m.num[5] / m.den[5];
+  t.b1 = m.num[0];
   return t;
 }
 
@@ -171,7 +155,7 @@ TEST(TransferModel, CoefficientsGiveTheIndependentRootsAndRoundTrip) {
   constexpr double kRootRel = 1e-8;
   constexpr double kCoeffRel = 1e-12;  // expansion of the roots back to coefficients
   for (const Table31Axis& m : kTable31) {
-    const TransferModel model = transfer_model_from_coefficients(vec(m.b), vec(m.a));
+    const TransferModel model = transfer_model_from_coefficients(vec(m.num), vec(m.den));
     const Truth t = truth_of(m);
     ASSERT_EQ(model.pole_pairs.size(), 3u) << m.name;
     ASSERT_EQ(model.zero_pairs.size(), 2u) << m.name;
@@ -188,13 +172,13 @@ TEST(TransferModel, CoefficientsGiveTheIndependentRootsAndRoundTrip) {
     ASSERT_EQ(t.real_zeros.size(), 1u);
     EXPECT_NEAR(model.real_zeros_rad_s[0], t.real_zeros[0], kRootRel * std::abs(t.real_zeros[0]));
     EXPECT_NEAR(dc_gain(model), t.dc_gain, kCoeffRel * t.dc_gain) << m.name;
-    EXPECT_EQ(model.b1, m.b[0]);
+    EXPECT_EQ(model.b1, m.num[0]);
     EXPECT_EQ(rhp_zero_count(model), 0) << m.name << ": 004 Table 3.1 is minimum phase";
     const Eigen::VectorXd num = numerator_coefficients(model),
                           den = denominator_coefficients(model);
     for (int i = 0; i < 6; ++i) {
-      EXPECT_NEAR(num[i], m.b[std::size_t(i)], kCoeffRel * std::abs(m.b[std::size_t(i)]));
-      EXPECT_NEAR(den[i], m.a[std::size_t(i)], kCoeffRel * std::abs(m.a[std::size_t(i)]));
+      EXPECT_NEAR(num[i], m.num[std::size_t(i)], kCoeffRel * std::abs(m.num[std::size_t(i)]));
+      EXPECT_NEAR(den[i], m.den[std::size_t(i)], kCoeffRel * std::abs(m.den[std::size_t(i)]));
     }
     // The factored form's response against Horner's rule on the table.
     for (double f : {10.0, 1000.0, 1411.8, 1500.0, 3000.0}) {
@@ -233,7 +217,7 @@ TEST(TransferModel, NotesDerivedPropertiesOfTable31Hold) {
   for (int axis = 0; axis < 3; ++axis) {
     const Table31Axis& m = kTable31[axis];
     const Derived& d = derived[axis];
-    const TransferModel model = transfer_model_from_coefficients(vec(m.b), vec(m.a));
+    const TransferModel model = transfer_model_from_coefficients(vec(m.num), vec(m.den));
     EXPECT_NEAR(dc_gain(model), d.dc, 5e-6) << m.name;
     for (std::size_t k = 0; k < 3; ++k) {
       EXPECT_NEAR(model.pole_pairs[k].fn_hz, d.poles[k].fn_hz, 0.05) << m.name << " pole " << k;
@@ -257,7 +241,7 @@ TEST(TransferModel, RealizationReproducesTheModelAndIsWellConditioned) {
   constexpr double kCondBound = 2.0;
   const Eigen::VectorXd f = Eigen::VectorXd::LinSpaced(5000, 1.0, 5000.0);
   for (const Table31Axis& m : kTable31) {
-    const TransferModel model = transfer_model_from_coefficients(vec(m.b), vec(m.a));
+    const TransferModel model = transfer_model_from_coefficients(vec(m.num), vec(m.den));
     const ContinuousModel r = realize_scaled_modal(model);
     ASSERT_EQ(r.order(), 6);
     const Eigen::VectorXcd g_ss = frequency_response(r, f);
@@ -271,18 +255,18 @@ TEST(TransferModel, RealizationReproducesTheModelAndIsWellConditioned) {
     EXPECT_LT(cond, kCondBound) << m.name;
     // C B = b1 (invariant under similarity: the SMO's B2, notes/004.md section 5), and the
     // static gain -C A^-1 B = bn / an.
-    EXPECT_NEAR((r.C * r.B)(0), m.b[0], 1e-10 * m.b[0]) << m.name;
-    EXPECT_NEAR(-(r.C * r.A.partialPivLu().solve(r.B))(0), m.b[5] / m.a[5], 1e-12) << m.name;
+    EXPECT_NEAR((r.C * r.B)(0), m.num[0], 1e-10 * m.num[0]) << m.name;
+    EXPECT_NEAR(-(r.C * r.A.partialPivLu().solve(r.B))(0), m.num[5] / m.den[5], 1e-12) << m.name;
     // The controllable canonical form of 004 eq. 3.4, for the record. Its inverse is known in
     // closed form (x_k = y_(k+1), x_6 = -(y_1 + a1 y_2 + ... + a5 y_6) / a6), so
     // cond_2 = ||Ac|| ||Ac^-1|| needs no SVD of Ac's tiny singular values (an SVD of Ac returns
     // 1e33..1e35 here: its absolute error eps ||Ac|| ~ 1e8 swamps sigma_min ~ 1).
     Eigen::MatrixXd Ac = Eigen::MatrixXd::Zero(6, 6), Ac_inv = Eigen::MatrixXd::Zero(6, 6);
-    for (int i = 0; i < 6; ++i) Ac(0, i) = -m.a[std::size_t(i)];
+    for (int i = 0; i < 6; ++i) Ac(0, i) = -m.den[std::size_t(i)];
     Ac.bottomLeftCorner(5, 5).setIdentity();
     Ac_inv.topRightCorner(5, 5).setIdentity();
-    Ac_inv(5, 0) = -1.0 / m.a[5];
-    for (int i = 1; i < 6; ++i) Ac_inv(5, i) = -m.a[std::size_t(i - 1)] / m.a[5];
+    Ac_inv(5, 0) = -1.0 / m.den[5];
+    for (int i = 1; i < 6; ++i) Ac_inv(5, i) = -m.den[std::size_t(i - 1)] / m.den[5];
     EXPECT_LT((Ac_inv * Ac - Eigen::MatrixXd::Identity(6, 6)).cwiseAbs().maxCoeff(), 1e-12);
     const double cond_canonical = Eigen::JacobiSVD<Eigen::MatrixXd>(Ac).singularValues()[0] *
                                   Eigen::JacobiSVD<Eigen::MatrixXd>(Ac_inv).singularValues()[0];
@@ -349,7 +333,7 @@ TEST(TransferFit, NoiseFreeFitIsExact) {
     const Measurement meas = measure(m, 0.0, 1);
     const TransferFit fit = fit_transfer_function(meas.f_hz, meas.H);
     ASSERT_TRUE(fit.summary.ok()) << fit.summary.full_report();
-    const TransferModel truth = transfer_model_from_coefficients(vec(m.b), vec(m.a));
+    const TransferModel truth = transfer_model_from_coefficients(vec(m.num), vec(m.den));
     ASSERT_EQ(fit.model.pole_pairs.size(), 3u);
     ASSERT_EQ(fit.model.zero_pairs.size(), 2u);
     for (std::size_t k = 0; k < 3; ++k)
@@ -380,7 +364,7 @@ TEST(TransferFit, Band004OnlyStillRecoversThePoles) {
 
 TEST(TransferModel, MirroringKeepsTheMagnitude) {
   // Hyy with its 1721.8 Hz zero pair moved into the right half plane.
-  const TransferModel y = transfer_model_from_coefficients(vec(kTable31[1].b), vec(kTable31[1].a));
+  const TransferModel y = transfer_model_from_coefficients(vec(kTable31[1].num), vec(kTable31[1].den));
   TransferModel nmp = y;
   nmp.zero_pairs[1].s = std::conj(-nmp.zero_pairs[1].s);  // -conj(z): Re > 0
   ASSERT_GT(nmp.zero_pairs[1].s.real(), 0.0);
@@ -397,7 +381,7 @@ TEST(TransferModel, MirroringKeepsTheMagnitude) {
 TEST(TransferFit, RightHalfPlaneZeroComesOutMinimumPhase) {
   // Hyy with its 1721.8 Hz zero pair in the right half plane (a non-minimum-phase plant):
   // vector fitting finds it there, step 2 mirrors it, the refined model is minimum phase.
-  const TransferModel y = transfer_model_from_coefficients(vec(kTable31[1].b), vec(kTable31[1].a));
+  const TransferModel y = transfer_model_from_coefficients(vec(kTable31[1].num), vec(kTable31[1].den));
   Eigen::VectorXcd zeros = y.zeros();
   for (Eigen::Index i = 0; i < zeros.size(); ++i)
     if (std::abs(std::abs(zeros[i]) / kTwoPi - 1721.8) < 1.0) zeros[i] = -std::conj(zeros[i]);
@@ -458,7 +442,7 @@ TEST(TransferFit, BadInputIsRejectedWithItsRule) {
   expect_input_error([&] { fit_transfer_function(meas.f_hz, H); },
                      "H[3] = (nan,0): must be finite");
   expect_input_error(
-      [&] { transfer_model_from_coefficients(Eigen::VectorXd::Ones(5), vec(kTable31[0].a)); },
+      [&] { transfer_model_from_coefficients(Eigen::VectorXd::Ones(5), vec(kTable31[0].den)); },
       "num.size() = 5: must equal den.size() = 6 (004 eq. 3.1: [b1 .. bn])");
   expect_input_error(
       [&] { transfer_model_from_roots(Eigen::VectorXcd::Ones(3), Eigen::VectorXcd::Ones(1), 1.0); },
