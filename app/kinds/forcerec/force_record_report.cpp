@@ -89,11 +89,13 @@ render::Figure spectrum_figure(const ForceRecordResult& r, const ForceAxisResult
     top.series.emplace_back(f_of(h.size()), h, kNames[i], render::SeriesStyle::kLinePoints,
                             kColours[i]);
   }
+  const double f_hi = std::max(0.5 * r.sample_rate_hz, 1.0);
+  top.x_range = render::Range{0.0, f_hi};
+  // `top` is not used below: adding a panel may move the vector's elements.
   render::Axes& bottom = fig.panels.emplace_back();
   bottom.x_label = "frequency [Hz]";
   bottom.y_label = "|G| [N/N]";
   bottom.log_y = true;
-  const double f_hi = std::max(0.5 * r.sample_rate_hz, 1.0);
   std::vector<double> f, g;
   for (int i = 1; i <= 400; ++i) {
     const double fr = f_hi * i / 400.0;
@@ -101,27 +103,33 @@ render::Figure spectrum_figure(const ForceRecordResult& r, const ForceAxisResult
     g.push_back(std::abs(forcerec::transfer_response(ax.model->model, fr)));
   }
   bottom.series.emplace_back(f, g, "model " + ax.frf_test, render::SeriesStyle::kLine, "#000000");
-  top.x_range = render::Range{0.0, f_hi};
   bottom.x_range = render::Range{0.0, f_hi};
+  return fig;
+}
+
+// One log-log panel for a tuning curve per axis (E(S), the L-curve).
+constexpr const char* kAxisColours[3] = {"#0072B2", "#D55E00", "#009E73"};
+render::Figure tuning_figure(const std::string& x_label, const std::string& y_label) {
+  render::Figure fig;
+  fig.height_in = 3.2;
+  render::Axes& a = fig.panels.emplace_back();
+  a.x_label = x_label;
+  a.y_label = y_label;
+  a.log_x = true;
+  a.log_y = true;
+  a.legend = render::LegendPosition::kAuto;
   return fig;
 }
 
 // E(S) of every axis tuned by the knee, with the chosen S.
 render::Figure akf_error_figure(const ForceRecordResult& r) {
-  render::Figure fig;
-  fig.height_in = 3.2;
-  render::Axes& a = fig.panels.emplace_back();
-  a.x_label = "S [N^2]";
-  a.y_label = "E(S) [N]";
-  a.log_x = true;
-  a.log_y = true;
-  a.legend = render::LegendPosition::kAuto;
-  const char* colours[3] = {"#0072B2", "#D55E00", "#009E73"};
+  render::Figure fig = tuning_figure("S [N^2]", "E(S) [N]");
+  render::Axes& a = fig.panels.front();
   int i = 0;
   for (const auto& ax : r.axes) {
     const auto& m = ax.methods[0];
     if (!ax.done || !m.ok || !m.akf.S_from_knee) continue;
-    const char* c = colours[i++ % 3];
+    const char* c = kAxisColours[i++ % 3];
     a.series.emplace_back(to_vector(m.akf.S_grid_N2), to_vector(m.akf.E),
                           std::string("axis ") + ax.axis, render::SeriesStyle::kLine, c);
     if (m.akf.knee_index >= 0) {
@@ -135,20 +143,13 @@ render::Figure akf_error_figure(const ForceRecordResult& r) {
 
 // The L-curves of rd (circulant screen) with the alpha used.
 render::Figure lcurve_figure(const ForceRecordResult& r) {
-  render::Figure fig;
-  fig.height_in = 3.2;
-  render::Axes& a = fig.panels.emplace_back();
-  a.x_label = "||G f - y|| [N]";
-  a.y_label = "||f|| [N]";
-  a.log_x = true;
-  a.log_y = true;
-  a.legend = render::LegendPosition::kAuto;
-  const char* colours[3] = {"#0072B2", "#D55E00", "#009E73"};
+  render::Figure fig = tuning_figure("||G f - y|| [N]", "||f|| [N]");
+  render::Axes& a = fig.panels.front();
   int i = 0;
   for (const auto& ax : r.axes) {
     const auto& m = ax.methods[2];
     if (!ax.done || !m.ok || m.rd.lcurve.empty()) continue;
-    const char* c = colours[i++ % 3];
+    const char* c = kAxisColours[i++ % 3];
     std::vector<double> x, y;
     for (const auto& p : m.rd.lcurve) {
       x.push_back(p.residual_norm_N);

@@ -62,8 +62,9 @@ struct CutsSpec {
   double fs_hz = 10240.0;
   double duration_s = 3.0;
   double air_s = 0.5;     // not engaged before it
-  double noise_N = 0.08;  // white noise std on each axis output
-  CuttingCoefficients coefficients{6.0e8, 2.4e8, 0.0, 0.0};
+  double noise_N = 0.1;  // white noise std on each axis output (R = 0.01 N^2: 004 has 0.007-0.02)
+  // notes/004.md sec. 9 item 3 (the prototype: Fy from -15.5 to 31 N in a slot).
+  CuttingCoefficients coefficients{8.0e8, 1.7e8, 2.8e4, 3.1e4};
   double runout_um = 0.0;                // tooth 1 stands out radially by this
   std::optional<double> drift_fn_scale;  // hammer-before tests with frequency_scaled(model, it)
   std::vector<CutSpec> list;

@@ -94,10 +94,22 @@ TEST(ReportEndToEnd, DemoCampaignRecoversTruth) {
   EXPECT_EQ(g["tests"].size(), 6u);
 
   // Every input hashed; the truth comparison present.
-  // campaign, truth, 21 tests x (test.yaml, signals), the grinding test's inspections file and
-  // the spindle-current cut's dynamometer file (11 tests of the main document and grinding, 8
-  // of the spindle-sensor set, 2 of the spindle drive)
-  EXPECT_EQ(r["inputs_sha256"].size(), 1u + 1u + 2u * 21u + 1u + 1u);
+  // campaign, truth, 25 tests x (test.yaml, signals), the grinding test's inspections file,
+  // the spindle-current cut's dynamometer file and the two force records' reference files (11
+  // tests of the main document and grinding, 8 of the spindle-sensor set, 2 of the spindle
+  // drive, 4 of the table dynamometer)
+  EXPECT_EQ(r["inputs_sha256"].size(), 1u + 1u + 2u * 25u + 1u + 1u + 2u);
+  // The table dynamometer (004): both records reconstructed on both axes by all three methods
+  // (their figures against truth: force_record_e2e_test).
+  for (const char* id : {"forcerec/cuts/resonant", "forcerec/cuts/calm"}) {
+    ASSERT_EQ(r["tests"][id]["status"], "ok") << id;
+    for (const char* a : {"x", "y"}) {
+      for (const char* method : {"akf", "smo", "rd"}) {
+        EXPECT_TRUE(r["tests"][id]["axes"][a]["methods"][method].contains("nrmse_pct"))
+            << id << a << method;
+      }
+    }
+  }
   // Cut tests: offset angle against truth.yaml, modulo the half turn: the equal-teeth model of
   // 000 sec. 5.1 (hammer modes and dyno Ktc, Krc on both teeth) cannot tell the half turns
   // apart, and the identified one fixes them only up to the tooth labels. offset_angle_deg is

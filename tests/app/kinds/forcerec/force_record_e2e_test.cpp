@@ -56,14 +56,15 @@ const char* kMethods[3] = {"akf", "smo", "rd"};
 // Bounds on each method's force NRMSE from the best achievable with the TRUE model (truth.yaml's
 // oracles; each method here uses the model FITTED to the hammer test):
 // - rd, Tikhonov itself: within 10 % of the best-alpha Tikhonov oracle (the discrepancy alpha
-//   is close to the best one; the fitted model's errors add a little).
+//   is close to the best one; the fitted model's errors add a little). Measured 1.01-1.05.
 // - smo slides and returns F_zoh, the sampled model's one-step inverse (smo.h): within 10 % of
-//   the plain-inverse oracle.
-// - akf, a random-walk prior at the knee S: between the two; within 50 % of the Tikhonov oracle.
-// Measured at seed 11 in docs/forcerec.md section 3.
+//   the plain-inverse oracle. Measured 0.97-0.98.
+// - akf, a random-walk prior at the knee S, lies between the two: within 35 % of the Tikhonov
+//   oracle. Measured 1.16-1.26.
+// Seed 11, docs/forcerec.md section 3.
 constexpr double kRdOverTikhonov = 1.10;
 constexpr double kSmoOverInverse = 1.10;
-constexpr double kAkfOverTikhonov = 1.50;
+constexpr double kAkfOverTikhonov = 1.35;
 // Means and harmonics against the reference's: 6 % of the axis's rms force, absolute (N). What
 // remains is the fitted model's gain error at the harmonics (a few % near the resonances) and,
 // for rd, the regularization's attenuation of the highest harmonics; the noise over the
@@ -71,8 +72,8 @@ constexpr double kAkfOverTikhonov = 1.50;
 // up to 90 % of the rms force on the resonant cut.
 constexpr double kHarmonicTolOfRms = 0.06;
 // A first-pass model with every frequency 3 % low (004 sec. 4.5) raises every method's force
-// error by at least this factor.
-constexpr double kDriftErrorFactor = 1.1;
+// error by at least this factor (measured 1.42-1.82).
+constexpr double kDriftErrorFactor = 1.25;
 
 std::string read_text(const fs::path& p) {
   std::ifstream in(p);
@@ -109,6 +110,8 @@ class ForceRecordE2E : public ::testing::Test {
     broken("rd-alpha", "", "rd_alpha: sometimes\n");
     broken("smo-a22s", "", "smo: {a22s_1_s: 2}\n");
     broken("frf-wrong-axis", "x: forcerec/hammer/x", "x: forcerec/hammer/y");
+    // Not broken: a cut window of 0.3 s, too short for E(S)'s 0.05 s + 1 s.
+    broken("short-cut", "cut_window_s: [0.6, 2.95]", "cut_window_s: [0.6, 0.9]");
     // Another tool's campaign: no air window, the noise variance given; a CSV record. Written
     // below from the calm record's floats.
     ReportOptions o;
@@ -332,6 +335,24 @@ TEST_F(ForceRecordE2E, BadKeysAreSkippedWithTheirMessages) {
       << reason("forcerec/bad/frf-wrong-axis");
   // The rest of the campaign ran.
   for (const char* id : kCuts) EXPECT_EQ(tests.at(id).at("status"), "ok") << id;
+}
+
+// A cut window shorter than the AKF's tuning length: S is tuned over the record's start with a
+// warning, and every method still reconstructs within the calm record's bounds.
+TEST_F(ForceRecordE2E, AShortCutWindowTunesTheAkfOverTheRecordsStart) {
+  const json& t = results_->at("tests").at("forcerec/bad/short-cut");
+  ASSERT_EQ(t.at("status"), "ok") << t.dump(2);
+  bool warned = false;
+  for (const auto& w : t.at("warnings")) {
+    warned = warned || w.get<std::string>().find("S tuned over the record's first") !=
+                           std::string::npos;
+  }
+  EXPECT_TRUE(warned) << t.at("warnings").dump();
+  const YAML::Node tr = (*truth_)["tests"]["forcerec/cuts/calm"]["axes"];
+  for (const char* a : kAxes) {
+    const double e = t.at("axes").at(a).at("methods").at("akf").at("nrmse_pct").get<double>();
+    EXPECT_LE(e, kAkfOverTikhonov * tr[a]["oracle_tikhonov_nrmse_pct"].as<double>()) << a;
+  }
 }
 
 TEST_F(ForceRecordE2E, ResultsValidateAgainstTheSchemaAndTheReportShowsTheSection) {
