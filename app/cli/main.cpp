@@ -15,6 +15,7 @@
 #include "app/cli/init.h"
 #include "app/cli/output_folder.h"
 #include "app/cli/validate.h"
+#include "app/core/allocator.h"
 #include "app/core/campaign.h"
 #include "app/lobes/lobes_run.h"
 #include "app/report/report.h"
@@ -109,6 +110,7 @@ bool out_holds(const std::filesystem::path& out, const std::filesystem::path& ca
 }  // namespace
 
 int main(int argc, char** argv) {
+  chatterlab::app::configure_allocator();  // docs/performance.md#allocator
   using chatterlab::app::command_usage;
   const std::vector<std::string> args(argv + 1, argv + argc);
   const chatterlab::app::ParsedCommandLine parsed = chatterlab::app::parse_command_line(args);
