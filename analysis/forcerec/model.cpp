@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <Eigen/QR>
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "analysis/common/constants.h"
@@ -92,6 +93,14 @@ Eigen::VectorXd simulate(const DiscreteModel& model,
     x.swap(next);
   }
   return y;
+}
+
+Eigen::MatrixXd orthogonal_complement(const Eigen::Ref<const Eigen::VectorXd>& c) {
+  const Eigen::Index n = c.size();
+  const Eigen::MatrixXd column = c;
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(column);
+  const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(n, n);
+  return Q.rightCols(n - 1);
 }
 
 }  // namespace forcerec

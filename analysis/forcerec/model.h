@@ -55,6 +55,10 @@ Eigen::VectorXcd frequency_response(const DiscreteModel& model,
 // y(k) to a unit force held over interval 0.
 Eigen::VectorXd impulse_response(const DiscreteModel& model, Eigen::Index count);
 
+// An orthonormal basis of the vectors orthogonal to c (n x (n-1)): the last n-1 columns of the
+// Householder Q of c (the SMO's null(C), 004 eq. 2.17, and the vector fit's zeros).
+Eigen::MatrixXd orthogonal_complement(const Eigen::Ref<const Eigen::VectorXd>& c);
+
 // y(k), k = 0..N-1, from rest (x(0) = 0) for the held forces F(0..N-1).
 Eigen::VectorXd simulate(const DiscreteModel& model,
                          const Eigen::Ref<const Eigen::VectorXd>& force);

@@ -36,9 +36,7 @@ void output_coordinates(const Eigen::RowVectorXd& C, MatrixXd* Tc, MatrixXd* Tc_
   if (!(cn > 0.0) || !std::isfinite(cn)) {
     throw std::invalid_argument(std::string(who) + ": C must be finite and nonzero");
   }
-  const Eigen::HouseholderQR<MatrixXd> qr(C.transpose());
-  const MatrixXd Q = qr.householderQ();
-  const MatrixXd N = Q.rightCols(n - 1);
+  const MatrixXd N = orthogonal_complement(C.transpose());
   Tc->resize(n, n);
   Tc->topRows(n - 1) = N.transpose();
   Tc->row(n - 1) = C;

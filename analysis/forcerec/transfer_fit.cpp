@@ -657,9 +657,7 @@ TransferFit fit_transfer_function(const Eigen::Ref<const Eigen::VectorXd>& f_hz,
                      num_text(cb * w_ref) + "): 004 eq. 3.1 needs b1 != 0");
     return fit;
   }
-  Eigen::HouseholderQR<Eigen::MatrixXd> qr(c);  // c as a column: Q's other columns span ker c
-  const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(n, n);
-  const Eigen::MatrixXd Nk = Q.rightCols(n - 1);
+  const Eigen::MatrixXd Nk = orthogonal_complement(c);  // spans ker c^T
   const Eigen::MatrixXd P = Eigen::MatrixXd::Identity(n, n) - b * c.transpose() / cb;
   Eigen::VectorXcd zeros_scaled(n - 1);
   if (n > 1) {
