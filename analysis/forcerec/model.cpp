@@ -1,8 +1,8 @@
 #include "analysis/forcerec/model.h"
 
+#include <Eigen/QR>
 #include <cmath>
 #include <stdexcept>
-#include <Eigen/QR>
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "analysis/common/constants.h"

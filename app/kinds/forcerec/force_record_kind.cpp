@@ -94,15 +94,15 @@ std::array<ForceMethodResult, 3> reconstruct(const DynoModel& model, const Eigen
       forcerec::SampleWindow w =
           forcerec::akf_tuning_window(N, in.fs, in.cut_begin_s, in.cut_end_s, o);
       const auto skip = static_cast<Eigen::Index>(std::llround(o.skip_s * in.fs));
-      if (w.end - w.begin < skip + static_cast<Eigen::Index>(std::llround(o.tuning_length_s *
-                                                                           in.fs))) {
+      if (w.end - w.begin <
+          skip + static_cast<Eigen::Index>(std::llround(o.tuning_length_s * in.fs))) {
         const forcerec::SampleWindow whole =
             forcerec::akf_tuning_window(N, in.fs, 0.0, static_cast<double>(N) / in.fs, o);
         if (whole.end - whole.begin > w.end - w.begin) {
-          akf.warnings.push_back("the cut window holds less than 0.05 s + 1 s for E(S): S tuned "
-                                 "over the record's first " +
-                                 fmt_sig(static_cast<double>(whole.end - whole.begin) / in.fs, 3) +
-                                 " s instead");
+          akf.warnings.push_back(
+              "the cut window holds less than 0.05 s + 1 s for E(S): S tuned "
+              "over the record's first " +
+              fmt_sig(static_cast<double>(whole.end - whole.begin) / in.fs, 3) + " s instead");
           w = whole;
         }
       }
@@ -233,9 +233,10 @@ std::string force_file_path(const std::string& test_id) {
 }
 
 std::vector<std::string> ForceRecordKind::keys() const {
-  return {"operation",     "spindle_rpm",     "feed_per_tooth_mm", "axial_depth_mm",
-          "radial_immersion_mm", "air_window_s", "noise_var_N2",   "cut_window_s",
-          "frf_tests",     "akf_S_N2",        "smo",               "rd_alpha"};
+  return {
+      "operation",    "spindle_rpm",  "feed_per_tooth_mm", "axial_depth_mm", "radial_immersion_mm",
+      "air_window_s", "noise_var_N2", "cut_window_s",      "frf_tests",      "akf_S_N2",
+      "smo",          "rd_alpha"};
 }
 
 std::shared_ptr<const KindSpec> ForceRecordKind::parse(const YAML::Node& root,
@@ -281,8 +282,8 @@ std::shared_ptr<const KindSpec> ForceRecordKind::parse(const YAML::Node& root,
       s->has_reference = !s->reference.relative_file.empty() && !s->reference.channels.empty();
       for (const auto& c : s->reference.channels) {
         if (c != "Fx" && c != "Fy" && c != "Fz") {
-          r.error("reference.force.channels", "every channel must be Fx, Fy or Fz, not '" + c +
-                                                  "'");
+          r.error("reference.force.channels",
+                  "every channel must be Fx, Fy or Fz, not '" + c + "'");
           s->has_reference = false;
         }
       }
@@ -337,8 +338,9 @@ std::shared_ptr<const KindSpec> ForceRecordKind::parse(const YAML::Node& root,
   }
   if (s->air_window_s && s->cut_window_s && s->air_window_s->second > s->cut_window_s->first &&
       s->air_window_s->first < s->cut_window_s->second) {
-    r.error("air_window_s", "overlaps cut_window_s: the air window is spindle turning, tool not "
-                            "engaged");
+    r.error("air_window_s",
+            "overlaps cut_window_s: the air window is spindle turning, tool not "
+            "engaged");
   }
   return s;
 }
@@ -385,8 +387,7 @@ std::vector<std::string> ForceRecordKind::required_channels(const TestSpec&) con
   return {"Fx", "Fy"};
 }
 
-std::vector<std::string> ForceRecordKind::check_record(const TestSpec& t,
-                                                       double duration_s) const {
+std::vector<std::string> ForceRecordKind::check_record(const TestSpec& t, double duration_s) const {
   const auto& s = t.kind_spec<ForceRecordSpec>();
   std::vector<std::string> e;
   if (s.air_window_s) {
@@ -428,15 +429,16 @@ void ForceRecordKind::run(const TestSpec& t, const CampaignValues& in, const Run
   res->cut_end_s = s.cut_window_s ? s.cut_window_s->second : T;
   res->evaluation_window = forcerec::evaluation_window(N, fs);
   if (res->harmonic_count > 0) {
-    res->harmonic_window = forcerec::harmonic_window(N, fs, res->tooth_freq_hz, res->cut_begin_s,
-                                                     res->cut_end_s);
+    res->harmonic_window =
+        forcerec::harmonic_window(N, fs, res->tooth_freq_hz, res->cut_begin_s, res->cut_end_s);
   }
   if (res->harmonic_count == 0) {
     out.warnings.push_back("the tooth-passing frequency (" + fmt_sig(res->tooth_freq_hz, 5) +
                            " Hz) is above 0.4 sample_rate_hz: no harmonics");
   } else if (res->harmonic_window.size() == 0) {
-    out.warnings.push_back("the cut window holds no whole tooth period after 0.05 s: no "
-                           "harmonics");
+    out.warnings.push_back(
+        "the cut window holds no whole tooth period after 0.05 s: no "
+        "harmonics");
   }
   if (res->evaluation_window.size() == 0) {
     throw InputError(label + ": " + std::to_string(N) +
@@ -454,8 +456,7 @@ void ForceRecordKind::run(const TestSpec& t, const CampaignValues& in, const Run
     const SignalTable rt = SignalTable::open(d, rl);
     if (static_cast<Eigen::Index>(rt.samples()) != N) {
       throw InputError(t.yaml_label + ": key 'reference.force.file': " + rl + " holds " +
-                       std::to_string(rt.samples()) + " samples, the record " +
-                       std::to_string(N));
+                       std::to_string(rt.samples()) + " samples, the record " + std::to_string(N));
     }
     for (const auto& c : s.reference.channels) {
       reference[c[1]] = rt.channel(c);
@@ -483,8 +484,8 @@ void ForceRecordKind::run(const TestSpec& t, const CampaignValues& in, const Run
                                                         res->tooth_freq_hz, res->harmonic_count);
     }
     if (ax.reference_N.size() == N && res->harmonic_window.size() > 0) {
-      ax.reference_harmonics = forcerec::tooth_harmonics(
-          ax.reference_N, res->harmonic_window, fs, res->tooth_freq_hz, res->harmonic_count);
+      ax.reference_harmonics = forcerec::tooth_harmonics(ax.reference_N, res->harmonic_window, fs,
+                                                         res->tooth_freq_hz, res->harmonic_count);
     }
     if (ax.reference_N.size() == N) {
       ax.measured_nrmse_pct =
@@ -530,7 +531,8 @@ void ForceRecordKind::run(const TestSpec& t, const CampaignValues& in, const Run
                          " samples: at least 16 are needed for the noise variance");
       }
       const auto seg = ax.measured_N.segment(k0, k1 - k0);
-      ax.noise_var_N2 = (seg.array() - seg.mean()).square().sum() / static_cast<double>(k1 - k0 - 1);
+      ax.noise_var_N2 =
+          (seg.array() - seg.mean()).square().sum() / static_cast<double>(k1 - k0 - 1);
       ax.noise_from_air = true;
     } else if (auto it = s.noise_var_N2.find(a); it != s.noise_var_N2.end()) {
       ax.noise_var_N2 = it->second;

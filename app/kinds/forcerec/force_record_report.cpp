@@ -178,7 +178,8 @@ bool any_lcurve(const ForceRecordResult& r) {
 }
 
 std::string tuning_text(const ForceMethodResult& m) {
-  if (m.id == "akf") return "S = " + fmt_sig(m.tuning, 3) + " N^2" + (m.akf.S_from_knee ? " (knee)" : "");
+  if (m.id == "akf")
+    return "S = " + fmt_sig(m.tuning, 3) + " N^2" + (m.akf.S_from_knee ? " (knee)" : "");
   if (m.id == "smo") return "rho = " + fmt_sig(m.tuning, 3) + " N/s";
   return "alpha = " + fmt_sig(m.tuning, 3) + " (" + forcerec::to_string(m.rd.rule) + ")";
 }
@@ -324,8 +325,8 @@ json ForceRecordKind::report_section(const CampaignResults&,
                                 {"title", "Force reconstruction behind the dynamometer"}}})},
           {"force_records", tests},
           {"force_comparison", comparison},
-          {"force_comparison_metric", any_reference ? "NRMSE against the reference (%)"
-                                                    : "first harmonic amplitude"},
+          {"force_comparison_metric",
+           any_reference ? "NRMSE against the reference (%)" : "first harmonic amplitude"},
           {"force_drift", drift},
           {"has_force_drift", any_other}};
 }
@@ -352,8 +353,7 @@ void ForceRecordKind::compare_truth(const TruthInput& in, const TestOutcome& out
       add_truth_row(c, a + "." + m.id + ".mean_N", id, truth_number(e, "mean_N"),
                     m.harmonics.mean_N);
       if (!th || !th.IsSequence()) continue;
-      for (std::size_t h = 0; h < 3 && h < th.size() && h < m.harmonics.amplitudes_N.size();
-           ++h) {
+      for (std::size_t h = 0; h < 3 && h < th.size() && h < m.harmonics.amplitudes_N.size(); ++h) {
         double tv = NAN;
         try {
           tv = th[h].as<double>();

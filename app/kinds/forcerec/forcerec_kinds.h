@@ -112,7 +112,7 @@ struct ForceMethodResult {
   std::string message;  // why it failed
   std::vector<std::string> warnings;
   double runtime_s = 0.0;
-  Eigen::VectorXd force_N;  // emptied for other models (only their figures are kept)
+  Eigen::VectorXd force_N;   // emptied for other models (only their figures are kept)
   Eigen::Index samples = 0;  // of the reconstructed force
   bool has_harmonics = false;
   forcerec::Harmonics harmonics;
@@ -120,9 +120,9 @@ struct ForceMethodResult {
   // The tuning: akf S (N^2), rd alpha; smo rho and delta are the options.
   double tuning = 0.0;
   double delta_N = 0.0, a22s_1_s = 0.0;  // smo
-  forcerec::AkfResult akf;  // force moved out (E(S) curve kept)
-  forcerec::SmoResult smo;  // force moved out
-  forcerec::DeconvolutionResult rd;  // force moved out (L-curve kept)
+  forcerec::AkfResult akf;               // force moved out (E(S) curve kept)
+  forcerec::SmoResult smo;               // force moved out
+  forcerec::DeconvolutionResult rd;      // force moved out (L-curve kept)
 };
 
 // An axis with a model other than the one it is reconstructed with (004 sec. 4.5: a model that
@@ -170,8 +170,7 @@ class ForceRecordKind : public TestKind {
   std::vector<std::string> keys() const override;
   std::vector<std::string> reference_blocks() const override { return {"force"}; }
   std::shared_ptr<const KindSpec> parse(const YAML::Node& root, YamlReader& r) const override;
-  std::vector<std::string> check_campaign(const CampaignSpec& c,
-                                          const TestSpec& t) const override;
+  std::vector<std::string> check_campaign(const CampaignSpec& c, const TestSpec& t) const override;
   std::vector<std::filesystem::path> input_files(const TestSpec& t) const override;
   std::vector<std::string> required_channels(const TestSpec&) const override;
   std::vector<std::string> check_record(const TestSpec& t, double duration_s) const override;

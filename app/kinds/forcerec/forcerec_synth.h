@@ -20,9 +20,9 @@
 
 #include "analysis/common/cutting_coefficients.h"
 #include "analysis/forcerec/model.h"
+#include "analysis/forcerec/table31.h"
 #include "analysis/forcerec/transfer_fit.h"
 #include "analysis/milling/simulation_options.h"
-#include "analysis/forcerec/table31.h"
 #include "app/core/yaml_reader.h"
 #include "app/pipeline/kind.h"
 #include "app/synth/synth.h"
@@ -61,7 +61,7 @@ struct CutSpec {
 struct CutsSpec {
   double fs_hz = 10240.0;
   double duration_s = 3.0;
-  double air_s = 0.5;     // not engaged before it
+  double air_s = 0.5;    // not engaged before it
   double noise_N = 0.1;  // white noise std on each axis output (R = 0.01 N^2: 004 has 0.007-0.02)
   // notes/004.md sec. 9 item 3 (the prototype: Fy from -15.5 to 31 N in a slot).
   CuttingCoefficients coefficients{8.0e8, 1.7e8, 2.8e4, 3.1e4};

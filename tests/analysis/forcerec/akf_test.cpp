@@ -339,8 +339,8 @@ TEST(ForcerecAkf, SteadyStateAgreesWithTheTimeVaryingFilterAfter50ms) {
 // the start from P0 = 1e6 I (covariances 1e8 times R) amplifies that rounding in the first
 // samples (1.5 N at sample 14), a difference that decays like the closed loop's rho^k (0.965^k:
 // 1.5 N x 0.965^512 = 2e-8 N); after 0.05 s, where the format evaluates, the two agree to 1e-8
-// of the force's size (measured 1.2e-9). (At c = 1e3, P0 = 1e9 I, the time-varying filter itself breaks
-// down: the reason the kind runs the steady-state filter, akf.h.)
+// of the force's size (measured 1.2e-9). (At c = 1e3, P0 = 1e9 I, the time-varying filter itself
+// breaks down: the reason the kind runs the steady-state filter, akf.h.)
 TEST(ForcerecAkf, TimeVaryingFilterIsInvariantUnderScalingRSAndP0Together) {
   const Record r = x_record(6000);
   const double S = 0.01, P0 = 1e6;

@@ -25,8 +25,8 @@ TEST(ForceMetrics, EvaluationWindowSkipsTheStartAndTheEnd) {
 }
 
 TEST(ForceMetrics, HarmonicCountAndWindowFollowTheFormat) {
-  EXPECT_EQ(harmonic_count(kFs, kFtp), 8);       // floor(0.4 x 10240 / 511.5) = 8
-  EXPECT_EQ(harmonic_count(kFs, 200.0), 12);     // capped at 12
+  EXPECT_EQ(harmonic_count(kFs, kFtp), 8);    // floor(0.4 x 10240 / 511.5) = 8
+  EXPECT_EQ(harmonic_count(kFs, 200.0), 12);  // capped at 12
   EXPECT_EQ(harmonic_count(kFs, 0.0), 0);
   // Cut window [0.6, 2.95] s of a 3 s record: k0 = 6144, k1 = floor(min(2.95, 2.99) fs) = 30208,
   // P = floor(24064 x 511.5 / 10240) = 1202 periods, n = round(1202 x 10240 / 511.5) = 24063.
@@ -70,8 +70,8 @@ TEST(ForceMetrics, LagNrmseAndFitOfAShiftedScaledCopy) {
   const ReferenceError e = reference_error(scaled, F, w);
   const auto seg = F.segment(w.begin, w.size());
   EXPECT_NEAR(e.nrmse_pct, 10.0, 1e-10);
-  EXPECT_NEAR(e.fit_pct, 100.0 * (1.0 - 0.1 * seg.norm() / (seg.array() - seg.mean()).matrix().norm()),
-              1e-9);
+  EXPECT_NEAR(e.fit_pct,
+              100.0 * (1.0 - 0.1 * seg.norm() / (seg.array() - seg.mean()).matrix().norm()), 1e-9);
   EXPECT_EQ(e.lag_samples, 0);
   EXPECT_THROW(reference_error(scaled.head(100), F, w), std::invalid_argument);
 }

@@ -364,7 +364,8 @@ TEST(TransferFit, Band004OnlyStillRecoversThePoles) {
 
 TEST(TransferModel, MirroringKeepsTheMagnitude) {
   // Hyy with its 1721.8 Hz zero pair moved into the right half plane.
-  const TransferModel y = transfer_model_from_coefficients(vec(kTable31[1].num), vec(kTable31[1].den));
+  const TransferModel y =
+      transfer_model_from_coefficients(vec(kTable31[1].num), vec(kTable31[1].den));
   TransferModel nmp = y;
   nmp.zero_pairs[1].s = std::conj(-nmp.zero_pairs[1].s);  // -conj(z): Re > 0
   ASSERT_GT(nmp.zero_pairs[1].s.real(), 0.0);
@@ -381,7 +382,8 @@ TEST(TransferModel, MirroringKeepsTheMagnitude) {
 TEST(TransferFit, RightHalfPlaneZeroComesOutMinimumPhase) {
   // Hyy with its 1721.8 Hz zero pair in the right half plane (a non-minimum-phase plant):
   // vector fitting finds it there, step 2 mirrors it, the refined model is minimum phase.
-  const TransferModel y = transfer_model_from_coefficients(vec(kTable31[1].num), vec(kTable31[1].den));
+  const TransferModel y =
+      transfer_model_from_coefficients(vec(kTable31[1].num), vec(kTable31[1].den));
   Eigen::VectorXcd zeros = y.zeros();
   for (Eigen::Index i = 0; i < zeros.size(); ++i)
     if (std::abs(std::abs(zeros[i]) / kTwoPi - 1721.8) < 1.0) zeros[i] = -std::conj(zeros[i]);

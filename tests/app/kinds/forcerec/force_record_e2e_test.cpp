@@ -134,9 +134,11 @@ class ForceRecordE2E : public ::testing::Test {
     std::vector<char> bytes((std::istreambuf_iterator<char>(in)), {});
     const std::size_t n = bytes.size() / (2 * sizeof(float));
     const double sx = t["channels"]["Fx"]["scale"].as<double>();
-    const double ox = t["channels"]["Fx"]["offset"] ? t["channels"]["Fx"]["offset"].as<double>() : 0;
+    const double ox =
+        t["channels"]["Fx"]["offset"] ? t["channels"]["Fx"]["offset"].as<double>() : 0;
     const double sy = t["channels"]["Fy"]["scale"].as<double>();
-    const double oy = t["channels"]["Fy"]["offset"] ? t["channels"]["Fy"]["offset"].as<double>() : 0;
+    const double oy =
+        t["channels"]["Fy"]["offset"] ? t["channels"]["Fy"]["offset"].as<double>() : 0;
     std::string csv = "time_s,Fx,Fy\n";
     char buf[96];
     for (std::size_t k = 0; k < n; ++k) {
@@ -200,16 +202,17 @@ TEST_F(ForceRecordE2E, EveryMethodIsWithinTheOracleBound) {
       ASSERT_GT(oracle, 0.0);
       // The measured force is far off: the methods have something to correct.
       EXPECT_NEAR(ax.at("measured").at("nrmse_pct").get<double>(),
-                  ta["measured_nrmse_pct"].as<double>(), 1e-3 * ta["measured_nrmse_pct"].as<double>())
+                  ta["measured_nrmse_pct"].as<double>(),
+                  1e-3 * ta["measured_nrmse_pct"].as<double>())
           << id << " " << a;
       for (const char* m : kMethods) {
         const json& r = ax.at("methods").at(m);
         ASSERT_FALSE(r.contains("status")) << id << " " << a << " " << m << r.dump();
         const double e = r.at("nrmse_pct").get<double>();
-        const double bound = std::string(m) == "smo"
-                                 ? kSmoOverInverse * ta["oracle_inverse_nrmse_pct"].as<double>()
-                                 : (std::string(m) == "rd" ? kRdOverTikhonov : kAkfOverTikhonov) *
-                                       oracle;
+        const double bound =
+            std::string(m) == "smo"
+                ? kSmoOverInverse * ta["oracle_inverse_nrmse_pct"].as<double>()
+                : (std::string(m) == "rd" ? kRdOverTikhonov : kAkfOverTikhonov) * oracle;
         EXPECT_LE(e, bound) << id << " " << a << " " << m;
         EXPECT_LT(e, 0.25 * ax.at("measured").at("nrmse_pct").get<double>()) << id << a << m;
         EXPECT_EQ(r.at("lag_samples"), 0) << id << " " << a << " " << m;
@@ -262,8 +265,8 @@ TEST_F(ForceRecordE2E, TheForceFileHoldsEveryMethodAndAxis) {
   EXPECT_EQ(fs::file_size(file), n * 6 * sizeof(float));
   // Row 20000 against the reference file's (interval means): within 5 x the method's NRMSE of
   // the rms force is far too loose to fail by chance and catches a wrong layout.
-  std::ifstream f(file, std::ios::binary), r(campaign_ / "forcerec/cuts/resonant/reference.f32",
-                                             std::ios::binary);
+  std::ifstream f(file, std::ios::binary),
+      r(campaign_ / "forcerec/cuts/resonant/reference.f32", std::ios::binary);
   const std::size_t k = 20000;
   float row[6], ref[2];
   f.seekg(static_cast<std::streamoff>(k * sizeof row));
@@ -344,8 +347,8 @@ TEST_F(ForceRecordE2E, AShortCutWindowTunesTheAkfOverTheRecordsStart) {
   ASSERT_EQ(t.at("status"), "ok") << t.dump(2);
   bool warned = false;
   for (const auto& w : t.at("warnings")) {
-    warned = warned || w.get<std::string>().find("S tuned over the record's first") !=
-                           std::string::npos;
+    warned =
+        warned || w.get<std::string>().find("S tuned over the record's first") != std::string::npos;
   }
   EXPECT_TRUE(warned) << t.at("warnings").dump();
   const YAML::Node tr = (*truth_)["tests"]["forcerec/cuts/calm"]["axes"];
