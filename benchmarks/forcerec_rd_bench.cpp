@@ -68,7 +68,7 @@ void BM_RdTuned(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * state.range(0));
   state.counters["alpha"] = alpha;
 }
-BENCHMARK(BM_RdTuned)->Arg(384000)->Arg(614400)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RdTuned)->Arg(384000)->Arg(614400)->Arg(768000)->Unit(benchmark::kMillisecond);
 
 void BM_RdOneSolve(benchmark::State& state) {
   const Record rec = bench_record(state.range(0));
