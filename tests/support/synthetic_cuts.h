@@ -17,6 +17,8 @@
 #include "analysis/estimate/tool_model.h"
 #include "analysis/milling/simulation.h"
 #include "analysis/sync/cut_synth.h"
+#include "analysis/sync/offset_angle.h"
+#include "analysis/sync/tip_deflection.h"
 
 namespace chatterlab::testing {
 
@@ -134,6 +136,34 @@ inline estimate::MeasuredCut synthetic_cut(const SyntheticCutSpec& spec) {
       cut.x_m.size(), 0.0, omega * spec.filter_step_s * static_cast<double>(cut.x_m.size() - 1));
   cut.depth_m = Eigen::VectorXd::Constant(1, spec.depth_m);
   return cut;
+}
+
+// The measured mean revolution of a synthetic record, by the cut chain (tachometer, tip
+// deflection, comparison window of the last `revolutions` revolutions of a constant cut, mean
+// revolution), and the window's depth. Throws std::logic_error when a step fails.
+struct MeasuredRevolution {
+  sync::RevolutionMean mean;
+  double depth_m = 0.0;
+};
+inline MeasuredRevolution measured_revolution(const sync::CutRecordSpec& spec,
+                                              int revolutions = 20) {
+  const sync::CutRecord cut = make_cut(spec);
+  const double rpm = spec.cut.spindle_rpm;
+  const sync::TachAngle tach = sync::tach_angle(cut.tach_V, spec.fs_hz, rpm);
+  if (!tach.summary.ok()) throw std::logic_error("tach: " + tach.summary.message);
+  const sync::TipDeflection d = sync::tip_deflection(
+      cut.x_sensor_m, cut.y_sensor_m, tach, spec.sensor_to_tip, cut.air_start_s, cut.air_end_s);
+  if (!d.summary.ok()) throw std::logic_error("tip deflection: " + d.summary.message);
+  const sync::CutSchedule schedule{cut.cut_start_s, cut.cut_end_s, cut.depth_start_m,
+                                   cut.depth_end_m};
+  const sync::ComparisonWindow w = sync::comparison_window(schedule, rpm, revolutions);
+  const sync::RevolutionRange range = sync::whole_revolutions_in(tach, w.start_s, w.end_s);
+  if (range.count != revolutions) throw std::logic_error("comparison window: wrong revolutions");
+  MeasuredRevolution m;
+  m.mean = sync::mean_revolution(d.x_m, d.y_m, tach, range,
+                                 sync::contour_phase_points(tach, sync::ContourOptions{}));
+  m.depth_m = w.depth_m;
+  return m;
 }
 
 }  // namespace chatterlab::testing

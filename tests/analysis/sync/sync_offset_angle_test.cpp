@@ -21,24 +21,13 @@ double circular_distance_deg(double a, double b, double period = 360.0) {
   return std::min(d, period - d);
 }
 
-// The whole chain on a synthetic record: tachometer, tip deflection, comparison window of the
-// last 20 revolutions, mean revolution, offset search with `model`.
+// The whole chain on a synthetic record (testing::measured_revolution: the last 20
+// revolutions), then the offset search with `model`.
 OffsetAngleResult run_chain(const CutRecordSpec& spec, const milling::SimulationOptions& model,
                             RevolutionMean* measured_out = nullptr) {
-  const CutRecord cut = testing::make_cut(spec);
-  const TachAngle tach = tach_angle(cut.tach_V, kFs, kRpm);
-  EXPECT_TRUE(tach.summary.ok()) << tach.summary.message;
-  const TipDeflection d = tip_deflection(cut.x_sensor_m, cut.y_sensor_m, tach, spec.sensor_to_tip,
-                                         cut.air_start_s, cut.air_end_s);
-  EXPECT_TRUE(d.summary.ok()) << d.summary.message;
-  const CutSchedule schedule{cut.cut_start_s, cut.cut_end_s, cut.depth_start_m, cut.depth_end_m};
-  const ComparisonWindow w = comparison_window(schedule, kRpm, 20);
-  const RevolutionRange range = whole_revolutions_in(tach, w.start_s, w.end_s);
-  EXPECT_EQ(range.count, 20);
-  const RevolutionMean measured =
-      mean_revolution(d.x_m, d.y_m, tach, range, contour_phase_points(tach, ContourOptions{}));
-  if (measured_out != nullptr) *measured_out = measured;
-  return find_offset_angle(measured, model, w.depth_m);
+  const testing::MeasuredRevolution measured = testing::measured_revolution(spec, 20);
+  if (measured_out != nullptr) *measured_out = measured.mean;
+  return find_offset_angle(measured.mean, model, measured.depth_m);
 }
 
 void report(const char* name, const OffsetAngleResult& r, double truth) {
