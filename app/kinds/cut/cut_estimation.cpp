@@ -149,6 +149,25 @@ std::vector<std::pair<std::string, double>> scale_free_values(const CutEstimatio
   return v;
 }
 
+std::vector<std::pair<std::string, const estimate::IntervalValue*>> keyed_intervals(
+    const estimate::JointIdentificationResult& j) {
+  std::vector<std::pair<std::string, const estimate::IntervalValue*>> v = {
+      {"offset_deg", &j.offset_deg}, {"m_kg", &j.m_kg}, {"c_kg_s", &j.c_kg_s}};
+  for (std::size_t p = 0; p < j.Kt_N_m2.size(); ++p) {
+    const std::string n = std::to_string(p + 1);
+    v.emplace_back("Kt" + n + "_N_m2", &j.Kt_N_m2[p]);
+    v.emplace_back("Kr" + n + "_N_m2", &j.Kr_N_m2[p]);
+  }
+  v.emplace_back("fn_hz", &j.fn_hz);
+  v.emplace_back("zeta", &j.zeta);
+  for (std::size_t p = 0; p < j.Kt_over_k_per_m.size(); ++p) {
+    const std::string n = std::to_string(p + 1);
+    v.emplace_back("Kt" + n + "_over_k_per_m", &j.Kt_over_k_per_m[p]);
+    v.emplace_back("Kr" + n + "_over_k_per_m", &j.Kr_over_k_per_m[p]);
+  }
+  return v;
+}
+
 std::vector<FeedbackDifference> feedback_differences(const CutEstimation& e) {
   const estimate::EkfResult* measured = nullptr;
   const estimate::EkfResult* feedback = nullptr;
@@ -247,6 +266,15 @@ CutEstimation run_cut_estimation(const TestSpec& t, const CutStepInputs& in,
     warnings.insert(warnings.end(), ir.summary.warnings.begin(), ir.summary.warnings.end());
     out.summary.succeed();
     out.summary.warnings = warnings;
+
+    // The joint estimate from the sequence's values, over the same measured revolution.
+    try {
+      out.joint =
+          estimate::identify_joint(measured_mean, ident.cut_model, ident.offset_depth_m,
+                                   out.offset.search.offset_angle_deg, out.modal, out.coefficients);
+    } catch (const InputError& e) {
+      out.joint.summary.fail(e.what());
+    }
 
     // Every variant on the final offset, the identified values known (steps 3 above).
     const estimate::MeasuredCut cut =

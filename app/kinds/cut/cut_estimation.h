@@ -30,6 +30,7 @@
 #include "analysis/estimate/ekf_variants.h"
 #include "analysis/estimate/estimation_window.h"
 #include "analysis/estimate/identification.h"
+#include "analysis/estimate/joint_identification.h"
 #include "analysis/estimate/modal_sequence.h"
 #include "analysis/estimate/observability.h"
 #include "analysis/estimate/repeatability.h"
@@ -74,6 +75,10 @@ struct CutEstimation {
   estimate::ModalParameters modal;
   std::vector<estimate::ToothCoefficients> coefficients;
   sync::OffsetAngleResult offset;  // found again with the identified values
+  // The joint estimate started from the sequence's values (analysis/estimate/
+  // joint_identification.h): reported beside them, with 95 % intervals. Not run when the
+  // sequence failed.
+  estimate::JointIdentificationResult joint;
   std::vector<VariantOutcome> variants;
   // Chip thickness of every tooth over the first revolutions of the filter window (000 fig.
   // 6.18): t (record time) and one column per tooth, m (0: not cutting).
@@ -106,6 +111,11 @@ struct FeedbackDifference {
   double difference_pct = 0.0;
 };
 std::vector<FeedbackDifference> feedback_differences(const CutEstimation& e);
+
+// The joint estimate's values with their 95 % intervals under their results.json keys
+// (offset_deg, fn_hz, zeta, m_kg, c_kg_s, Kt1_N_m2, ..., Kt1_over_k_per_m, ...), k_N_m held.
+std::vector<std::pair<std::string, const estimate::IntervalValue*>> keyed_intervals(
+    const estimate::JointIdentificationResult& j);
 
 struct CutStepInputs;  // cut_step.h
 

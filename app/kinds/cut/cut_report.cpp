@@ -3,6 +3,7 @@
 // layout) and the campaign's estimator comparison.
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "app/core/format.h"
 #include "app/kinds/cut/cut_kind.h"
@@ -51,6 +52,36 @@ json identified_rows(const CutEstimation& e) {
   for (const auto& [key, v] : scale_free_values(e)) {
     rows.push_back({{"label", key_format(key).label}, {"value", key_value(key, v)}});
   }
+  return rows;
+}
+
+// The joint estimate beside the sequence: one row per value of keyed_intervals, its 95 % interval
+// and whether the cut identifies it; k, held, last. Empty when the joint fit did not succeed.
+json joint_rows(const CutEstimation& e) {
+  json rows = json::array();
+  if (!e.joint.summary.ok()) return rows;
+  std::map<std::string, double> sequence;
+  for (const auto& [key, v] : keyed_values(e.modal, e.coefficients)) sequence[key] = v;
+  for (const auto& [key, v] : scale_free_values(e)) sequence[key] = v;
+  sequence["offset_deg"] = e.offset.search.offset_angle_deg;
+  auto text = [](const std::string& key, double v) {
+    return key == "offset_deg" ? fmt_fixed(v, 3) : key_value(key, v);
+  };
+  for (const auto& [key, iv] : keyed_intervals(e.joint)) {
+    const std::string label = key == "offset_deg" ? "Offset angle (deg)" : key_format(key).label;
+    const bool bounded = std::isfinite(iv->lo) && std::isfinite(iv->hi);
+    rows.push_back({{"label", label},
+                    {"sequence", text(key, sequence[key])},
+                    {"joint", text(key, iv->value)},
+                    {"interval", bounded ? "[" + text(key, iv->lo) + ", " + text(key, iv->hi) + "]"
+                                         : std::string("unbounded")},
+                    {"identifiable", iv->identifiable}});
+  }
+  rows.push_back({{"label", key_format("k_N_m").label},
+                  {"sequence", key_value("k_N_m", e.modal.k_N_m)},
+                  {"joint", key_value("k_N_m", e.joint.k_N_m)},
+                  {"interval", "held (scale)"},
+                  {"identifiable", false}});
   return rows;
 }
 
@@ -220,6 +251,14 @@ json cut_context(const CampaignResults& r, const TestOutcome& t, const FigureSet
     est["pass_columns"] = columns;
     est["passes"] = passes;
     est["identified"] = identified_rows(e);
+    est["joint_rows"] = joint_rows(e);
+    est["joint_ok"] = e.joint.summary.ok();
+    est["joint_message"] = e.joint.summary.ok() ? std::string() : e.joint.summary.message;
+    est["joint_iterations"] = e.joint.iterations;
+    est["joint_runtime_s"] = fmt_sig(e.joint.runtime_s, 3);
+    est["joint_relative_pct"] = fmt_sig(100 * e.joint.relative_error, 3);
+    est["joint_inflation"] = fmt_sig(e.joint.variance_inflation, 3);
+    est["joint_warnings"] = e.joint.summary.warnings;
     est["offset_deg"] = fmt_fixed(e.offset.search.offset_angle_deg, 2);
     est["offset_relative_pct"] = fmt_sig(100 * e.offset.relative_error, 3);
     est["offset_hammer_deg"] = fmt_fixed(c.offset.search.offset_angle_deg, 2);

@@ -104,6 +104,46 @@ json variant_json(const VariantOutcome& v) {
   return j;
 }
 
+// The joint estimate (docs/identification.md, "Joint estimate"): every value with its 95 %
+// interval as a `<key>_ci95` pair [lo, hi] (null ends along a near-singular direction), k held.
+json joint_json(const estimate::JointIdentificationResult& r) {
+  json j;
+  j["method"] = "joint";
+  if (!r.summary.ok()) {
+    j["status"] = r.summary.ran() ? "failed" : "not run";
+    j["message"] = r.summary.ran() ? r.summary.message
+                                   : std::string("the identification sequence did not finish");
+    return j;
+  }
+  j["status"] = "ok";
+  json v = json::object();
+  json weak = json::array();
+  for (const auto& [key, iv] : keyed_intervals(r)) {
+    v[key] = number_or_null(iv->value);
+    v[key + "_ci95"] = {number_or_null(iv->lo), number_or_null(iv->hi)};
+    if (!iv->identifiable) weak.push_back(key);
+  }
+  v["k_N_m"] = number_or_null(r.k_N_m);
+  j["identified"] = v;
+  j["k_held"] = "the sequence's k_N_m: deflections fix the values only up to a common scale";
+  j["not_identifiable"] = weak;
+  j["singular_directions"] = r.singular_directions;
+  j["converged"] = r.converged;
+  j["iterations_count"] = r.iterations;
+  j["simulations_count"] = r.simulations;
+  j["runtime_s"] = r.runtime_s;
+  j["rms_error_m"] = number_or_null(r.rms_error_m);
+  j["start_rms_error_m"] = number_or_null(r.start_rms_error_m);
+  j["rms_relative_error"] = number_or_null(r.relative_error);
+  j["residual_sd_m"] = number_or_null(r.residual_sd_m);
+  j["residual_lag1_correlation_ratio"] = number_or_null(r.residual_correlation_lag1);
+  j["correlation_lags_count"] = r.correlation_lags;
+  j["variance_inflation_ratio"] = number_or_null(r.variance_inflation);
+  j["jacobian_condition_ratio"] = number_or_null(r.condition);
+  j["warnings"] = r.summary.warnings;
+  return j;
+}
+
 json estimation_json(const CutEstimation& e) {
   json j;
   j["window_s"] = {e.window.start_s, e.window.end_s};
@@ -120,8 +160,10 @@ json estimation_json(const CutEstimation& e) {
   }
   j["passes"] = passes;
   j["converged"] = e.converged;
+  j["method"] = "sequence";
   j["identified"] = identified_json(e);
   j["runtime_s"] = e.runtime_s;
+  j["joint"] = joint_json(e.joint);
   return j;
 }
 

@@ -113,6 +113,15 @@ void CutKind::compare_truth(const TruthInput& in, const TestOutcome& t, TruthCom
     const auto it = truth_in_cut.find(k);
     if (it != truth_in_cut.end()) add_truth_row(c, "identified." + k, key, it->second, value);
   }
+  // The joint estimate beside the sequence, on its own offset's tooth labels.
+  if (!e.joint.summary.ok()) return;
+  const double joint_deg = e.joint.offset_deg.value;
+  add_truth_row(c, "joint.offset_deg", key, truth_deg, nearest(joint_deg));
+  const auto truth_joint = truth_values(root, teeth, tooth_shift(joint_deg, truth_deg, teeth));
+  for (const auto& [k, iv] : keyed_intervals(e.joint)) {
+    const auto it = truth_joint.find(k);
+    if (it != truth_joint.end()) add_truth_row(c, "joint." + k, key, it->second, iv->value);
+  }
 }
 
 }  // namespace chatterlab::app

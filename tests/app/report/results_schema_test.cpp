@@ -244,6 +244,21 @@ TEST(ResultsSchema, ReportOfASynthCampaignValidatesAndBrokenCopiesFail) {
          bifurcation_skipped(j);
          j["tests"]["cuts/incline"].erase("bifurcation_depth_mm");
        }},
+      {"joint value without its interval",
+       "at /tests/cuts~1constant/identification/joint/identified: 'c_kg_s_ci95' is a required",
+       [](json& j) {
+         j["tests"]["cuts/constant"]["identification"]["joint"]["identified"].erase("c_kg_s_ci95");
+       }},
+      {"joint interval of one end",
+       "at /tests/cuts~1constant/identification/joint/identified/zeta_ci95:",
+       [](json& j) {
+         j["tests"]["cuts/constant"]["identification"]["joint"]["identified"]["zeta_ci95"] =
+             json::array({0.05});
+       }},
+      {"joint method mislabelled", "at /tests/cuts~1constant/identification/joint/method:",
+       [](json& j) {
+         j["tests"]["cuts/constant"]["identification"]["joint"]["method"] = "sequence";
+       }},
       {"bifurcation skipped with a depth", "at /tests/cuts~1incline/bifurcation_depth_mm:",
        [&](json& j) {
          bifurcation_skipped(j);

@@ -73,6 +73,8 @@ std::map<std::string, double> errors_of(const TruthComparison& c, const std::str
   return e;
 }
 
+int joint_intervals = 0, joint_covered = 0;
+
 // One seed: the per-run acceptance; returns the four coefficients' errors in percent.
 std::vector<double> identify_one(int seed) {
   std::vector<double> coefficient_errors;
@@ -133,6 +135,35 @@ std::vector<double> identify_one(int seed) {
   // The hammer values are far from the cut's (c by -40 %): the sequence moved them.
   EXPECT_GT(e.passes.size(), 1u);
 
+  // The joint estimate from the sequence's values (issue 13): the same goals, and its 95 %
+  // intervals contain the truth of the values it identifies, pooled over the seeds
+  // (joint_covered / joint_intervals; estimate_joint_test measures the coverage on 50 cuts).
+  EXPECT_TRUE(e.joint.summary.ok()) << e.joint.summary.message;
+  if (e.joint.summary.ok()) {
+    std::map<std::string, const TruthRow*> joint_rows;
+    for (const auto& row : truth.rows) {
+      if (row.source == "cuts/constant" && row.quantity.rfind("joint.", 0) == 0) {
+        joint_rows[row.quantity.substr(6)] = &row;
+      }
+    }
+    EXPECT_TRUE(joint_rows.count("offset_deg") && joint_rows.count("c_kg_s"));
+    if (!joint_rows.count("offset_deg") || !joint_rows.count("c_kg_s")) return coefficient_errors;
+    const double joint_offset_error =
+        std::abs(joint_rows["offset_deg"]->estimate - joint_rows["offset_deg"]->truth);
+    chatterlab::testing::record_and_print(s + "joint_offset_error_deg", joint_offset_error);
+    chatterlab::testing::record_and_print(s + "joint_c_error_pct", joint_rows["c_kg_s"]->error_pct);
+    EXPECT_LT(joint_offset_error, kOffsetToleranceDeg);
+    EXPECT_LT(std::abs(joint_rows["c_kg_s"]->error_pct), 100 * kDampingTolerance);
+    // The scale-free values do not depend on the held k (the sequence's scale).
+    for (const auto& [key, iv] : keyed_intervals(e.joint)) {
+      if (key.find("_over_k") == std::string::npos && key != "fn_hz" && key != "zeta") continue;
+      EXPECT_TRUE(joint_rows.count(key)) << key;
+      if (!joint_rows.count(key)) continue;
+      ++joint_intervals;
+      joint_covered += iv->contains(joint_rows[key]->truth);
+    }
+  }
+
   // Every variant ran, with 000 sec. 4.5's observability ranks at the operating point (an
   // unscented variant's are its model's, the EKF twin's).
   const std::map<std::string, std::pair<int, int>> ranks = {
@@ -171,6 +202,10 @@ TEST(Identification, RecoversTruthFromSynthCutsOverSeeds) {
     chatterlab::testing::record_and_print(std::string("median_") + names[k] + "_error_pct", median);
     EXPECT_LT(median, 100 * kCoefficientTolerance) << names[k];
   }
+  // 8 seeds x 6 scale-free values: at 95 % coverage, 41 or more inside with 98 % probability.
+  chatterlab::testing::record_and_print("joint_scale_free_covered", joint_covered);
+  EXPECT_EQ(joint_intervals, 48);
+  EXPECT_GE(joint_covered, 41);
 }
 
 // docs/identification.md, "Scale": a tool whose in-cut m, k lie 7 % below the hammer test's.
