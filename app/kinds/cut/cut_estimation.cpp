@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <map>
 
 #include "analysis/common/cutting_coefficients.h"
 #include "analysis/common/modal_parameters.h"
@@ -137,16 +138,45 @@ std::vector<std::pair<std::string, double>> keyed_values(
   return out;
 }
 
-std::vector<std::pair<std::string, double>> scale_free_values(const CutEstimation& e) {
-  const estimate::ModalParameters& m = e.modal;
+std::vector<std::pair<std::string, double>> scale_free_values(
+    const estimate::ModalParameters& m,
+    const std::vector<estimate::ToothCoefficients>& coefficients) {
   std::vector<std::pair<std::string, double>> v = {{"fn_hz", natural_frequency_hz(m)},
                                                    {"zeta", damping_ratio(m)}};
-  for (std::size_t p = 0; p < e.coefficients.size(); ++p) {
+  for (std::size_t p = 0; p < coefficients.size(); ++p) {
     const std::string n = std::to_string(p + 1);
-    v.emplace_back("Kt" + n + "_over_k_per_m", e.coefficients[p].Kt_N_m2 / m.k_N_m);
-    v.emplace_back("Kr" + n + "_over_k_per_m", e.coefficients[p].Kr_N_m2 / m.k_N_m);
+    v.emplace_back("Kt" + n + "_over_k_per_m", coefficients[p].Kt_N_m2 / m.k_N_m);
+    v.emplace_back("Kr" + n + "_over_k_per_m", coefficients[p].Kr_N_m2 / m.k_N_m);
   }
   return v;
+}
+
+std::vector<std::pair<std::string, double>> scale_free_values(const CutEstimation& e) {
+  return scale_free_values(e.modal, e.coefficients);
+}
+
+IdentifiedSet identified_set(const CutEstimation& e) {
+  IdentifiedSet s;
+  const bool joint = e.joint.summary.ok();
+  s.method = joint ? "joint" : "sequence";
+  s.modal = joint ? e.joint.modal() : e.modal;
+  s.coefficients = joint ? e.joint.coefficients() : e.coefficients;
+  std::map<std::string, const estimate::IntervalValue*> intervals;
+  if (joint) {
+    for (const auto& [key, iv] : keyed_intervals(e.joint)) intervals[key] = iv;
+  }
+  auto add = [&](const std::string& key, double v) {
+    IdentifiedValue x{key, v};
+    const auto it = intervals.find(key);
+    if (it != intervals.end()) {
+      x.lo = it->second->lo;
+      x.hi = it->second->hi;
+    }
+    s.values.push_back(x);
+  };
+  for (const auto& [key, v] : keyed_values(s.modal, s.coefficients)) add(key, v);
+  for (const auto& [key, v] : scale_free_values(s.modal, s.coefficients)) add(key, v);
+  return s;
 }
 
 std::vector<std::pair<std::string, const estimate::IntervalValue*>> keyed_intervals(

@@ -20,6 +20,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <utility>
@@ -98,6 +99,28 @@ std::vector<std::pair<std::string, double>> keyed_values(
 // outside scale (docs/identification.md, "Scale"): fn_hz = sqrt(k / m) / 2 pi,
 // zeta = c / (2 sqrt(k m)), and per tooth Kt<p>_over_k_per_m = Kt_p / k, Kr<p>_over_k_per_m.
 std::vector<std::pair<std::string, double>> scale_free_values(const CutEstimation& e);
+std::vector<std::pair<std::string, double>> scale_free_values(
+    const estimate::ModalParameters& modal,
+    const std::vector<estimate::ToothCoefficients>& coefficients);
+
+// The cut's identified set, the one the campaign reports and the lobes use
+// (docs/identification.md, "Campaign values"): the joint estimate when it succeeded (method
+// "joint", every value but k with its 95 % interval), else the sequence's (method "sequence",
+// no intervals). values: keyed_values then scale_free_values, lo/hi NaN where there is no
+// interval.
+struct IdentifiedValue {
+  std::string key;
+  double value = 0.0;
+  double lo = std::numeric_limits<double>::quiet_NaN();
+  double hi = std::numeric_limits<double>::quiet_NaN();
+};
+struct IdentifiedSet {
+  std::string method;  // "sequence" | "joint"
+  estimate::ModalParameters modal;
+  std::vector<estimate::ToothCoefficients> coefficients;
+  std::vector<IdentifiedValue> values;
+};
+IdentifiedSet identified_set(const CutEstimation& e);
 
 // The feedback filter (ekf-coeff-xy-feedback) against the measured-chip per-tooth filter
 // (ekf-coeff-xy-per-tooth), per estimate key: 100 (feedback / measured - 1). A measured chip

@@ -183,9 +183,11 @@ void CutKind::publish(const TestOutcome& t, CampaignValues& values) const {
     s.bifurcation_depth_m = c.bifurcation.bifurcation_depth_m;
   }
   if (c.estimation.summary.ok()) {
+    // The identified set: the joint estimate when it succeeded (identified_set).
+    const IdentifiedSet set = identified_set(c.estimation);
     s.identified = true;
-    s.modal = c.estimation.modal;
-    for (const auto& k : c.estimation.coefficients) {
+    s.modal = set.modal;
+    for (const auto& k : set.coefficients) {
       s.Kt_N_m2.push_back(k.Kt_N_m2);
       s.Kr_N_m2.push_back(k.Kr_N_m2);
     }

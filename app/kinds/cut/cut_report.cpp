@@ -325,8 +325,25 @@ json estimators_context(const CampaignResults& r) {
   j["has_bifurcations"] = !bifurcations.empty();
   j["bifurcations"] = bifurcations;
   if (const TestOutcome* src = identification_source(r)) {
+    const IdentifiedSet set = identified_set(src->result_of<CutOutcome>().estimation);
     j["identified_from"] = src->spec->id;
-    j["identified"] = identified_rows(src->result_of<CutOutcome>().estimation);
+    j["identified_method"] = set.method == "joint" ? "the joint estimate, with 95 % intervals"
+                                                   : "the identification sequence (the joint "
+                                                     "estimate did not succeed: no intervals)";
+    json rows_identified = json::array();
+    for (const auto& v : set.values) {
+      const bool bounded = std::isfinite(v.lo) && std::isfinite(v.hi);
+      const bool interval = !std::isnan(v.lo) || !std::isnan(v.hi);
+      rows_identified.push_back(
+          {{"label", key_format(v.key).label},
+           {"value", key_value(v.key, v.value)},
+           {"interval",
+            bounded ? "[" + key_value(v.key, v.lo) + ", " + key_value(v.key, v.hi) + "]"
+            : interval
+                ? std::string("unbounded (not identifiable)")
+                : std::string(v.key == "k_N_m" && set.method == "joint" ? "held (scale)" : "")}});
+    }
+    j["identified"] = rows_identified;
   }
   return j;
 }

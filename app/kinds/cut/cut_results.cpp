@@ -22,11 +22,25 @@ json values_json(const estimate::ModalParameters& m,
   return j;
 }
 
+// The sequence's identified values of one cut test (identification.identified).
 json identified_json(const CutEstimation& e) {
   json j = values_json(e.modal, e.coefficients);
   // The scale-free combinations that deflection data determine on their own
   // (docs/identification.md, "Scale").
   for (const auto& [k, v] : scale_free_values(e)) j[k] = number_or_null(v);
+  return j;
+}
+
+// The campaign's identified set (identified_set): every value, and its `<key>_ci95` pair when
+// it has an interval.
+json identified_set_json(const IdentifiedSet& s) {
+  json j = json::object();
+  for (const auto& v : s.values) {
+    j[v.key] = number_or_null(v.value);
+    if (!std::isnan(v.lo) || !std::isnan(v.hi)) {
+      j[v.key + "_ci95"] = {number_or_null(v.lo), number_or_null(v.hi)};
+    }
+  }
   return j;
 }
 
@@ -302,20 +316,24 @@ void CutKind::write_files(const TestOutcome& t, const std::filesystem::path& rep
   std::ofstream out(file);
   out << "# chatterlab " << CHATTERLAB_VERSION << ": values identified from cut test "
       << (t.spec->id.empty() ? std::string(".") : t.spec->id)
-      << " (results.json tests.<id>.identification.identified; the campaign's `identified` when "
-         "identified_from names this test)\n";
-  out << "quantity,value,unit\n";
-  std::vector<std::pair<std::string, double>> rows =
-      keyed_values(c.estimation.modal, c.estimation.coefficients);
-  for (const auto& kv : scale_free_values(c.estimation)) rows.push_back(kv);
+      << " (the joint estimate when it succeeded, results.json "
+         "tests.<id>.identification.joint.identified, else the sequence's, "
+         "tests.<id>.identification.identified; the campaign's `identified` when identified_from "
+         "names this test)\n";
+  const IdentifiedSet set = identified_set(c.estimation);
+  out << "# method: " << set.method
+      << (set.method == "joint" ? " (95 % intervals in ci95_lo, ci95_hi)" : " (no intervals)")
+      << "\n";
+  out << "quantity,value,unit,ci95_lo,ci95_hi\n";
   char buf[40];
-  for (const auto& [key, v] : rows) {
-    out << key << ',';
-    if (std::isfinite(v)) {
-      std::snprintf(buf, sizeof buf, "%.17g", v);
-      out << buf;
-    }
-    out << ',' << unit_of_key(key) << '\n';
+  auto number = [&](double v) {
+    if (!std::isfinite(v)) return std::string();
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    return std::string(buf);
+  };
+  for (const auto& v : set.values) {
+    out << v.key << ',' << number(v.value) << ',' << unit_of_key(v.key) << ',' << number(v.lo)
+        << ',' << number(v.hi) << '\n';
   }
   if (!out) throw InputError(identified_csv_path(t.spec->id) + ": cannot be written");
 }
@@ -323,7 +341,9 @@ void CutKind::write_files(const TestOutcome& t, const std::filesystem::path& rep
 // The identification of one cut test (docs/identification.md, "Campaign values").
 void CutKind::campaign_results(const CampaignResults& r, json& root) const {
   if (const TestOutcome* src = identification_source(r)) {
-    root["identified"] = identified_json(src->result_of<CutOutcome>().estimation);
+    const IdentifiedSet set = identified_set(src->result_of<CutOutcome>().estimation);
+    root["identified"] = identified_set_json(set);
+    root["identified_method"] = set.method;
     root["identified_from"] = src->spec->id;
     root["identified_csv"] = identified_csv_path(src->spec->id);
   } else {

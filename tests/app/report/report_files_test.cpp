@@ -288,25 +288,38 @@ TEST(ReportFiles, FrfFigureAndIdentifiedFilesBesideResultsJson) {
     }
   }
 
-  // The identified values: one row per key of results.json `identified`, the same numbers.
+  // The identified values: one row per value of results.json `identified`, the same numbers, and
+  // its `_ci95` pair in the last two columns (the joint estimate's intervals).
   ASSERT_TRUE(r.contains("identified_csv")) << r["identified"].dump();
   const std::string ic = r["identified_csv"];
   EXPECT_EQ(ic, r["identified_from"].get<std::string>() + "/identified.csv");
   EXPECT_EQ(r["tests"][r["identified_from"].get<std::string>()]["identified_csv"], ic);
   const auto lines = lines_of(out / ic);
-  ASSERT_GE(lines.size(), 3u);
-  EXPECT_EQ(lines[1], "quantity,value,unit");
+  ASSERT_GE(lines.size(), 4u);
+  EXPECT_EQ(r["identified_method"], "joint");
+  EXPECT_EQ(lines[1], "# method: joint (95 % intervals in ci95_lo, ci95_hi)");
+  EXPECT_EQ(lines[2], "quantity,value,unit,ci95_lo,ci95_hi");
   const json& id = r["identified"];
-  EXPECT_EQ(lines.size() - 2, id.size());
+  std::size_t values = 0, intervals = 0;
+  for (const auto& [key, v] : id.items())
+    (key.size() > 5 && key.substr(key.size() - 5) == "_ci95" ? intervals : values)++;
+  EXPECT_EQ(lines.size() - 3, values);
+  EXPECT_EQ(intervals, values - 1);  // every value but k_N_m, held
   std::map<std::string, std::string> units;
-  for (std::size_t i = 2; i < lines.size(); ++i) {
+  for (std::size_t i = 3; i < lines.size(); ++i) {
     const auto f = split(lines[i]);
-    ASSERT_EQ(f.size(), 3u) << lines[i];
+    ASSERT_EQ(f.size(), 5u) << lines[i];
     ASSERT_TRUE(id.contains(f[0])) << f[0];
     if (id[f[0]].is_null()) {
       EXPECT_EQ(f[1], "");
     } else {
       EXPECT_EQ(std::stod(f[1]), id[f[0]].get<double>()) << f[0];
+    }
+    if (id.contains(f[0] + "_ci95")) {
+      EXPECT_EQ(std::stod(f[3]), id[f[0] + "_ci95"][0].get<double>()) << f[0];
+      EXPECT_EQ(std::stod(f[4]), id[f[0] + "_ci95"][1].get<double>()) << f[0];
+    } else {
+      EXPECT_EQ(f[3] + f[4], "") << f[0];
     }
     units[f[0]] = f[2];
   }
