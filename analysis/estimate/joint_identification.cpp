@@ -19,8 +19,8 @@ namespace {
 
 constexpr double kZ95 = 1.959963984540054;  // two-sided 95 % normal quantile
 
-// Periodic Catmull-Rom interpolation of values on the grid 2 pi a / S at phase t (rad): C1, exact
-// for cubics, so the residuals are smooth in the offset.
+// Periodic Catmull-Rom interpolation of values on the grid 2 pi a / S at phase t (rad): C1 and
+// exact for quadratics, so the residuals are smooth in the offset.
 double periodic_cubic(const Eigen::VectorXd& v, double t) {
   const Eigen::Index S = v.size();
   double u = t / kTwoPi * static_cast<double>(S);
@@ -84,7 +84,14 @@ class RevolutionResidual {
     milling::SimulationOptions o = model_;
     apply(layout_, theta, k_, &o);
     ++*simulations_;
-    const milling::SimulationResult sim = milling::simulate(o, request_);
+    milling::SimulationResult sim;
+    try {
+      // A trial step far out (exp overflow: m = 0, K infinite) is invalid simulator input: the
+      // step is refused, as one whose cut chatters.
+      sim = milling::simulate(o, request_);
+    } catch (const std::exception&) {
+      return false;
+    }
     if (!sim.summary.ok() || sim.records.size() != 2) return false;
     const milling::RevolutionRecord& prev = sim.records[0];
     const milling::RevolutionRecord& last = sim.records[1];
@@ -112,8 +119,10 @@ class RevolutionResidual {
   int* simulations_;
 };
 
+// The delta-method interval of v with gradient grad: its variance under cov, never below its
+// variance under white residuals (white).
 IntervalValue interval(double value, const Eigen::VectorXd& grad, const Eigen::MatrixXd& cov,
-                       bool singular) {
+                       const Eigen::MatrixXd& white, bool singular) {
   IntervalValue v;
   v.value = value;
   if (singular) {
@@ -123,7 +132,7 @@ IntervalValue interval(double value, const Eigen::VectorXd& grad, const Eigen::M
     v.identifiable = false;
     return v;
   }
-  v.sd = std::sqrt(std::max(0.0, grad.dot(cov * grad)));
+  v.sd = std::sqrt(std::max({0.0, grad.dot(cov * grad), grad.dot(white * grad)}));
   v.lo = value - kZ95 * v.sd;
   v.hi = value + kZ95 * v.sd;
   v.identifiable = std::isfinite(v.sd) && 2.0 * kZ95 * v.sd < std::abs(value);
@@ -196,6 +205,11 @@ JointIdentificationResult identify_joint(const sync::RevolutionMean& measured,
     throw InputError(
         "joint identification: the measured revolution needs >= 8 finite phase "
         "points on x and y");
+  }
+  if (2 * N <= 3 + 2 * cut_model.teeth) {
+    throw InputError("joint identification: " + std::to_string(2 * N) + " residuals for " +
+                     std::to_string(3 + 2 * cut_model.teeth) +
+                     " parameters: the measured revolution needs more phase points");
   }
   check_positive("depth_m", depth_m);
   check_positive("m_kg", start_modal.m_kg);
@@ -271,7 +285,7 @@ JointIdentificationResult identify_joint(const sync::RevolutionMean& measured,
   so.num_threads = 1;
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
-  r.iterations = static_cast<int>(summary.iterations.size());
+  r.iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
   r.termination = summary.message;
   r.converged = summary.termination_type == ceres::CONVERGENCE;
 
@@ -310,10 +324,13 @@ JointIdentificationResult identify_joint(const sync::RevolutionMean& measured,
       A += (1.0 / sv[i]) * V.col(i) * svd.matrixU().col(i).transpose();
       continue;
     }
+    // Any parameter with a share of the direction has an unbounded variance along it; the text
+    // names the main ones.
     std::string direction;
     for (int j = 0; j < P; ++j) {
-      if (std::abs(V(j, i)) < 0.2) continue;
+      if (std::abs(V(j, i)) < 1e-3) continue;
       singular[j] = true;
+      if (std::abs(V(j, i)) < 0.2) continue;
       direction += (direction.empty() ? "" : " + ") + significant_text(V(j, i), 2) + " " +
                    parameter_name(layout, j);
     }
@@ -321,7 +338,9 @@ JointIdentificationResult identify_joint(const sync::RevolutionMean& measured,
   }
   // Residual autocovariance along the phase grid, pooled over x and y (each periodic), with the
   // degrees of freedom 2N - P, up to the lag L where it stops being significant (see the header).
-  const int max_lag = static_cast<int>(std::min<Eigen::Index>(options.correlation_lags, N / 2));
+  // Below N / 2: lag N / 2 of a periodic sequence is its own mirror and would count twice.
+  const int max_lag =
+      static_cast<int>(std::min<Eigen::Index>(options.correlation_lags, (N - 1) / 2));
   std::vector<double> gamma(max_lag + 1, 0.0);
   for (int lag = 0; lag <= max_lag; ++lag) {
     double sum = 0.0;
@@ -351,16 +370,9 @@ JointIdentificationResult identify_joint(const sync::RevolutionMean& measured,
   double long_run = gamma[0];
   for (int lag = 1; lag <= L; ++lag) long_run += 2.0 * gamma[lag];
   r.variance_inflation = gamma[0] > 0.0 ? long_run / gamma[0] : 1.0;
-  // A truncated sum can lose positive definiteness when negative correlations dominate: never
-  // narrower than the white-noise interval.
+  // A truncated sum can lose positive definiteness when negative correlations dominate: no
+  // value's interval is taken narrower than with white residuals (interval()).
   const Eigen::MatrixXd white = gamma[0] * A * A.transpose();
-  for (int i = 0; i < P; ++i) {
-    if (!(cov(i, i) >= white(i, i))) {
-      cov = white;
-      r.variance_inflation = 1.0;
-      break;
-    }
-  }
 
   // Values and their gradients in theta (delta method).
   auto any_singular = [&](const Eigen::VectorXd& g) {
@@ -370,11 +382,16 @@ JointIdentificationResult identify_joint(const sync::RevolutionMean& measured,
     return false;
   };
   auto value = [&](double v, const Eigen::VectorXd& g) {
-    return interval(v, g, cov, any_singular(g));
+    return interval(v, g, cov, white, any_singular(g));
   };
   Eigen::VectorXd g = Eigen::VectorXd::Zero(P);
   g[Layout::kOffset] = kRadToDeg;
   r.offset_deg = value(theta[Layout::kOffset] * kRadToDeg, g);
+  // Reported in [0, 360), the interval shifted with it.
+  const double turns = std::floor(r.offset_deg.value / 360.0);
+  r.offset_deg.value -= 360.0 * turns;
+  r.offset_deg.lo -= 360.0 * turns;
+  r.offset_deg.hi -= 360.0 * turns;
   // An angle has no magnitude to compare with: identifiable when narrower than half a tooth pitch.
   r.offset_deg.identifiable =
       std::isfinite(r.offset_deg.sd) && 2.0 * kZ95 * r.offset_deg.sd < 180.0 / layout.teeth;

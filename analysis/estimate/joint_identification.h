@@ -30,7 +30,9 @@
 // (Newey-West) left the intervals about 10 % narrow in a bootstrap (docs/identification.md). With
 // white residuals it is s^2 I and the interval is the classic s^2 (J^T J)^-1; it is never taken
 // narrower than that. A value v(theta) gets
-// v +- 1.959964 sqrt(grad v^T cov grad v) (delta method). A singular value
+// v +- 1.959964 sqrt(grad v^T cov grad v) (delta method), the variance never below its value with
+// white residuals. Every parameter with a share of at least 1e-3 in a near-singular direction
+// (below) has an unbounded interval. A singular value
 // below JointIdentificationOptions::singular_ratio times the largest is a near-singular
 // direction: its parameters are named and their intervals are infinite. A value whose interval is
 // wider than its own magnitude is flagged not identifiable from this cut.
@@ -97,7 +99,8 @@ struct JointIdentificationResult {
   // Near-singular directions, each as "a*ln fn + b*ln zeta ..." (the largest components).
   std::vector<std::string> singular_directions;
 
-  // The identified values (95 % intervals). The offset in degrees, unwrapped near the start's.
+  // The identified values (95 % intervals). The offset in degrees in [0, 360) (its interval may
+  // reach past either end).
   IntervalValue offset_deg;
   IntervalValue fn_hz, zeta;
   IntervalValue m_kg, c_kg_s;

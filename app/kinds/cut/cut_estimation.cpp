@@ -302,7 +302,8 @@ CutEstimation run_cut_estimation(const TestSpec& t, const CutStepInputs& in,
       out.joint =
           estimate::identify_joint(measured_mean, ident.cut_model, ident.offset_depth_m,
                                    out.offset.search.offset_angle_deg, out.modal, out.coefficients);
-    } catch (const InputError& e) {
+    } catch (const std::exception& e) {
+      // The joint estimate stands beside the sequence: its failure never fails the sequence.
       out.joint.summary.fail(e.what());
     }
 

@@ -81,7 +81,8 @@ json joint_rows(const CutEstimation& e) {
                   {"sequence", key_value("k_N_m", e.modal.k_N_m)},
                   {"joint", key_value("k_N_m", e.joint.k_N_m)},
                   {"interval", "held (scale)"},
-                  {"identifiable", false}});
+                  {"identifiable", false},
+                  {"held", true}});
   return rows;
 }
 
