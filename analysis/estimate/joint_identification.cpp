@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "analysis/common/ceres_lm.h"
 #include "analysis/common/constants.h"
 #include "analysis/common/number_text.h"
 #include "analysis/common/stopwatch.h"
@@ -274,18 +275,10 @@ JointIdentificationResult identify_joint(const sync::RevolutionMean& measured,
 
   ceres::Problem problem;
   problem.AddResidualBlock(cost, nullptr, theta.data());
-  ceres::Solver::Options so;
-  so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  so.linear_solver_type = ceres::DENSE_QR;
-  so.max_num_iterations = options.max_iterations;
-  so.function_tolerance = 1e-10;
-  so.parameter_tolerance = 1e-10;
-  so.gradient_tolerance = 1e-14;
-  so.logging_type = ceres::SILENT;
-  so.num_threads = 1;
+  const ceres::Solver::Options so = dense_lm_options(options.max_iterations, 1e-10, 1e-10, 1e-14);
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
-  r.iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
+  r.iterations = lm_iterations(summary);
   r.termination = summary.message;
   r.converged = summary.termination_type == ceres::CONVERGENCE;
 

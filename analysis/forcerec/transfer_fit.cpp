@@ -9,6 +9,7 @@
 #include <string>
 #include <utility>
 
+#include "analysis/common/ceres_lm.h"
 #include "analysis/common/check.h"
 #include "analysis/common/constants.h"
 #include "analysis/common/number_text.h"
@@ -728,18 +729,11 @@ TransferFit fit_transfer_function(const Eigen::Ref<const Eigen::VectorXd>& f_hz,
     ceres::Problem problem;
     problem.AddResidualBlock(cost, nullptr, theta.data());
     for (int i : zeta_index) problem.SetParameterLowerBound(theta.data(), i, log_min_zeta);
-    ceres::Solver::Options options;
-    options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-    options.linear_solver_type = ceres::DENSE_QR;
-    options.max_num_iterations = o.refine_max_iterations;
-    options.function_tolerance = 1e-14;
-    options.parameter_tolerance = 1e-14;
-    options.gradient_tolerance = 1e-16;
-    options.logging_type = ceres::SILENT;
-    options.num_threads = 1;
+    const ceres::Solver::Options options =
+        dense_lm_options(o.refine_max_iterations, 1e-14, 1e-14, 1e-16);
     ceres::Solver::Summary summary;
     ceres::Solve(options, &problem, &summary);
-    fit.refine_iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
+    fit.refine_iterations = lm_iterations(summary);
     if (summary.termination_type == ceres::CONVERGENCE ||
         summary.termination_type == ceres::NO_CONVERGENCE) {
       try {

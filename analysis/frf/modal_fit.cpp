@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 
+#include "analysis/common/ceres_lm.h"
 #include "analysis/common/constants.h"
 #include "analysis/frf/fit_band.h"
 #include "analysis/frf/modal_model.h"
@@ -135,18 +136,10 @@ Solved solve(const std::vector<FrfPeak>& peaks, const BandData& band, double df,
     problem.SetParameterUpperBound(s.theta.data(), 3 * i + 1,
                                    std::log(kZetaMax / s.model.zeta0[i]));
   }
-  ceres::Solver::Options options;
-  options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  options.linear_solver_type = ceres::DENSE_QR;
-  options.max_num_iterations = o.max_iterations;
-  options.function_tolerance = 1e-12;
-  options.parameter_tolerance = 1e-12;
-  options.gradient_tolerance = 1e-14;
-  options.logging_type = ceres::SILENT;
-  options.num_threads = 1;
+  const ceres::Solver::Options options = dense_lm_options(o.max_iterations, 1e-12, 1e-12, 1e-14);
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
-  s.iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
+  s.iterations = lm_iterations(summary);
   s.converged = summary.termination_type == ceres::CONVERGENCE;
   s.message = summary.message;
   for (int i = 0; i < n; ++i) {

@@ -11,6 +11,7 @@
 #include <string>
 #include <unsupported/Eigen/MatrixFunctions>
 
+#include "analysis/common/ceres_lm.h"
 #include "analysis/common/constants.h"
 #include "analysis/common/statistics.h"
 #include "analysis/frf/peaks.h"
@@ -539,18 +540,10 @@ SensorModel fit_sensor_model(const TapFrf& frf, const SensorFitOptions& o) {
     problem.SetParameterLowerBound(theta.data(), 2 * i + 1, std::log(kZetaMin / model.zeta0[s]));
     problem.SetParameterUpperBound(theta.data(), 2 * i + 1, std::log(o.max_zeta / model.zeta0[s]));
   }
-  ceres::Solver::Options options;
-  options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  options.linear_solver_type = ceres::DENSE_QR;
-  options.max_num_iterations = kMaxIterations;
-  options.function_tolerance = 1e-12;
-  options.parameter_tolerance = 1e-12;
-  options.gradient_tolerance = 1e-14;
-  options.logging_type = ceres::SILENT;
-  options.num_threads = 1;
+  const ceres::Solver::Options options = dense_lm_options(kMaxIterations, 1e-12, 1e-12, 1e-14);
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
-  fit.iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
+  fit.iterations = lm_iterations(summary);
   if (summary.termination_type != ceres::CONVERGENCE) {
     fit.summary.fail(fmt("the fit of %g modes", o.modes) + in_band +
                      fmt(" did not converge in %g iterations: ", kMaxIterations) + summary.message);
