@@ -199,9 +199,34 @@ TEST(JointIdentification, SaysWhyWhenTheStartIsNotSteady) {
       identify_joint(measured.mean, model, 8e-3, s.offset_deg, s.modal, s.coefficients);
   EXPECT_TRUE(r.summary.failed());
   EXPECT_NE(r.summary.message.find("not steady"), std::string::npos) << r.summary.message;
-  s.modal.c_kg_s = -1.0;
-  EXPECT_THROW(identify_joint(measured.mean, model, 1e-3, s.offset_deg, s.modal, s.coefficients),
-               InputError);
+  // Bad input names what is wrong.
+  auto message = [&](const Start& start, const sync::RevolutionMean& mean,
+                     const JointIdentificationOptions& o) {
+    try {
+      identify_joint(mean, model, 1e-3, start.offset_deg, start.modal, start.coefficients, o);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  Start bad = s;
+  bad.modal.c_kg_s = -1.0;
+  EXPECT_EQ(message(bad, measured.mean, {}),
+            "joint identification: start c_kg_s = -1: must be finite and > 0");
+  JointIdentificationOptions o;
+  o.max_iterations = 0;
+  EXPECT_EQ(message(s, measured.mean, o), "joint identification: max_iterations = 0: must be >= 1");
+  bad = s;
+  bad.coefficients.pop_back();
+  EXPECT_EQ(message(bad, measured.mean, {}),
+            "joint identification: 1 coefficient pairs for 2 teeth");
+  sync::RevolutionMean few = measured.mean;  // 4 phase points, fewer than 8
+  few.phase_rad.conservativeResize(4);
+  few.x_m.conservativeResize(4);
+  few.y_m.conservativeResize(4);
+  EXPECT_EQ(message(s, few, {}),
+            "joint identification: the measured revolution needs >= 8 finite phase points on x "
+            "and y");
 }
 
 // Random campaigns: teeth ratio Kt2 / Kt1 log-uniform in `ratio` ([1.02, 27]: nearly alike to
