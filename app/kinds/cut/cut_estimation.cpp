@@ -155,6 +155,13 @@ std::vector<std::pair<std::string, double>> scale_free_values(const CutEstimatio
   return scale_free_values(e.modal, e.coefficients);
 }
 
+std::map<std::string, double> sequence_values(const CutEstimation& e) {
+  std::map<std::string, double> v;
+  for (const auto& [k, value] : keyed_values(e.modal, e.coefficients)) v[k] = value;
+  for (const auto& [k, value] : scale_free_values(e)) v[k] = value;
+  return v;
+}
+
 IdentifiedSet identified_set(const CutEstimation& e) {
   IdentifiedSet s;
   const bool joint = e.joint.summary.ok();

@@ -21,6 +21,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <optional>
 #include <string>
 #include <utility>
@@ -102,6 +103,10 @@ std::vector<std::pair<std::string, double>> scale_free_values(const CutEstimatio
 std::vector<std::pair<std::string, double>> scale_free_values(
     const estimate::ModalParameters& modal,
     const std::vector<estimate::ToothCoefficients>& coefficients);
+
+// The sequence's identified values by key: keyed_values and scale_free_values of e.modal,
+// e.coefficients.
+std::map<std::string, double> sequence_values(const CutEstimation& e);
 
 // The cut's identified set, the one the campaign reports and the lobes use
 // (docs/identification.md, "Campaign values"): the joint estimate when it succeeded (method

@@ -3,6 +3,7 @@
 // layout) and the campaign's estimator comparison.
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 
 #include "app/core/format.h"
@@ -44,6 +45,14 @@ std::string key_value(const std::string& key, double v) {
   return fmt_sig(v / key_format(key).scale, 4);
 }
 
+// A 95 % interval as the tables show it: "[lo, hi]" in the value's format, `unbounded` when an
+// end is infinite (a near-singular direction).
+std::string interval_text(double lo, double hi, const std::function<std::string(double)>& text,
+                          const char* unbounded) {
+  if (std::isfinite(lo) && std::isfinite(hi)) return "[" + text(lo) + ", " + text(hi) + "]";
+  return unbounded;
+}
+
 json identified_rows(const CutEstimation& e) {
   json rows = json::array();
   for (const auto& [key, v] : keyed_values(e.modal, e.coefficients)) {
@@ -60,21 +69,18 @@ json identified_rows(const CutEstimation& e) {
 json joint_rows(const CutEstimation& e) {
   json rows = json::array();
   if (!e.joint.summary.ok()) return rows;
-  std::map<std::string, double> sequence;
-  for (const auto& [key, v] : keyed_values(e.modal, e.coefficients)) sequence[key] = v;
-  for (const auto& [key, v] : scale_free_values(e)) sequence[key] = v;
+  std::map<std::string, double> sequence = sequence_values(e);
   sequence["offset_deg"] = e.offset.search.offset_angle_deg;
   auto text = [](const std::string& key, double v) {
     return key == "offset_deg" ? fmt_fixed(v, 3) : key_value(key, v);
   };
   for (const auto& [key, iv] : keyed_intervals(e.joint)) {
     const std::string label = key == "offset_deg" ? "Offset angle (deg)" : key_format(key).label;
-    const bool bounded = std::isfinite(iv->lo) && std::isfinite(iv->hi);
+    const auto as_key = [&](double v) { return text(key, v); };
     rows.push_back({{"label", label},
                     {"sequence", text(key, sequence[key])},
                     {"joint", text(key, iv->value)},
-                    {"interval", bounded ? "[" + text(key, iv->lo) + ", " + text(key, iv->hi) + "]"
-                                         : std::string("unbounded")},
+                    {"interval", interval_text(iv->lo, iv->hi, as_key, "unbounded")},
                     {"identifiable", iv->identifiable}});
   }
   rows.push_back({{"label", key_format("k_N_m").label},
@@ -333,15 +339,14 @@ json estimators_context(const CampaignResults& r) {
                                                      "estimate did not succeed: no intervals)";
     json rows_identified = json::array();
     for (const auto& v : set.values) {
-      const bool bounded = std::isfinite(v.lo) && std::isfinite(v.hi);
       const bool interval = !std::isnan(v.lo) || !std::isnan(v.hi);
+      const auto as_key = [&](double x) { return key_value(v.key, x); };
       rows_identified.push_back(
           {{"label", key_format(v.key).label},
            {"value", key_value(v.key, v.value)},
            {"interval",
-            bounded ? "[" + key_value(v.key, v.lo) + ", " + key_value(v.key, v.hi) + "]"
-            : interval
-                ? std::string("unbounded (not identifiable)")
+            interval
+                ? interval_text(v.lo, v.hi, as_key, "unbounded (not identifiable)")
                 : std::string(v.key == "k_N_m" && set.method == "joint" ? "held (scale)" : "")}});
     }
     j["identified"] = rows_identified;

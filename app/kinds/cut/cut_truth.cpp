@@ -50,13 +50,6 @@ std::map<std::string, double> truth_values(const YAML::Node& root, int teeth, in
   return v;
 }
 
-std::map<std::string, double> identified_values(const CutEstimation& e) {
-  std::map<std::string, double> v;
-  for (const auto& [k, value] : keyed_values(e.modal, e.coefficients)) v[k] = value;
-  for (const auto& [k, value] : scale_free_values(e)) v[k] = value;
-  return v;
-}
-
 // The truth's offset of test `id`, NaN when truth.yaml has none.
 double truth_offset(const YAML::Node& root, const std::string& id) {
   const YAML::Node tests = root["tests"];
@@ -72,7 +65,7 @@ std::map<std::string, ReferenceValue> reference_values(const CampaignResults& r,
   const CutOutcome* c = t.status.ok() ? t.result_as<CutOutcome>() : nullptr;
   if (!c || !c->estimation.summary.ok()) return out;
   const CutEstimation& e = c->estimation;
-  for (const auto& [k, v] : identified_values(e)) out[k] = {v, "identified"};
+  for (const auto& [k, v] : sequence_values(e)) out[k] = {v, "identified"};
   const YAML::Node root = load_truth(r.campaign);
   const double off = root ? truth_offset(root, t.spec->id) : std::nan("");
   if (root && std::isfinite(off)) {
@@ -109,7 +102,7 @@ void CutKind::compare_truth(const TruthInput& in, const TestOutcome& t, TruthCom
   add_truth_row(c, "offset_angle_deg", key, truth_deg, nearest(est));
   const int shift = tooth_shift(est, truth_deg, teeth);
   const auto truth_in_cut = truth_values(root, teeth, shift);
-  for (const auto& [k, value] : identified_values(e)) {
+  for (const auto& [k, value] : sequence_values(e)) {
     const auto it = truth_in_cut.find(k);
     if (it != truth_in_cut.end()) add_truth_row(c, "identified." + k, key, it->second, value);
   }
