@@ -74,7 +74,9 @@ json joint_rows(const CutEstimation& e) {
   auto text = [](const std::string& key, double v) {
     return key == "offset_deg" ? fmt_fixed(v, 3) : key_value(key, v);
   };
-  for (const auto& [key, iv] : keyed_intervals(e.joint)) {
+  for (const auto& keyed : keyed_intervals(e.joint)) {
+    const std::string& key = keyed.first;
+    const auto& iv = keyed.second;
     const std::string label = key == "offset_deg" ? "Offset angle (deg)" : key_format(key).label;
     const auto as_key = [&](double v) { return text(key, v); };
     rows.push_back({{"label", label},
