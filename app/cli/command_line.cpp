@@ -75,6 +75,16 @@ const std::vector<CommandSpec>& commands() {
        {{"--write", false,
          "write the proposed files into the folder (an existing campaign.yaml or test.yaml is "
          "never overwritten)"}}},
+      {"compare",
+       "chatterlab compare <a/results.json> <b/results.json> [--tolerances <yaml>] [--json] "
+       "[--html <file>]",
+       "every number of two results.json files that moved beyond its tolerance, a to b; exit 1 "
+       "when one is flagged (docs/nightly.md#compare)",
+       {{"--tolerances", true,
+         "tolerance rules by key family (default: rel 1e-9; timings ignored; "
+         "docs/nightly.md#tolerances)"},
+        {"--json", false, "print the table as JSON instead of text"},
+        {"--html", true, "also write the table as a standalone HTML page to this file"}}},
   };
   return c;
 }
@@ -97,7 +107,9 @@ const char* const kExitStatusText =
     "     data file\n"
     "  2  the command line does not parse\n"
     "  3  internal error (report: a test or group stopped on one; the report names it)\n"
-    "  4  report: the report was written but no test was analysed (all skipped, or none)\n";
+    "  4  report: the report was written but no test was analysed (all skipped, or none)\n"
+    "compare: 0 nothing flagged, 1 a number moved beyond its tolerance or vanished (or an\n"
+    "  input cannot be read; stderr says which), 2 the command line does not parse\n";
 
 }  // namespace
 
@@ -182,6 +194,12 @@ ParsedCommandLine parse_command_line(const std::vector<std::string>& args) {
       l.write = true;
     } else if (a == "--single-file") {
       l.single_file = true;
+    } else if (a == "--json") {
+      l.json = true;
+    } else if (a == "--html") {
+      l.html = value;
+    } else if (a == "--tolerances") {
+      l.tolerances = value;
     } else if (a == "--results-only") {
       l.results_only = true;
     } else if (a == "--jobs") {

@@ -9,7 +9,8 @@
 namespace chatterlab::app {
 
 struct CommandLine {
-  std::string command;  // report | validate | simulate | synth | init; empty for --help / --version
+  std::string command;  // report | validate | simulate | synth | init | compare; empty for --help /
+                        // --version
   std::vector<std::string> positional;
   std::string out;            // --out
   bool pdf = true;            // --no-pdf
@@ -18,6 +19,9 @@ struct CommandLine {
   int jobs = 0;               // --jobs N (0: one thread per hardware thread)
   bool quiet = false;         // --quiet: nothing on stdout; errors still on stderr
   bool write = false;         // --write (init): write the proposed files
+  bool json = false;          // --json (compare): the table as JSON on stdout
+  std::string html;           // --html <file> (compare): also the table as an HTML page
+  std::string tolerances;     // --tolerances <yaml> (compare): tolerance rules
   bool help = false;          // --help / -h: the usage of `command` (or of every command)
   bool version = false;       // --version
 };

@@ -17,7 +17,9 @@
 #include "app/cli/validate.h"
 #include "app/core/allocator.h"
 #include "app/core/campaign.h"
+#include "app/core/checked_write.h"
 #include "app/lobes/lobes_run.h"
+#include "app/nightly/compare.h"
 #include "app/report/report.h"
 #include "app/simulate/simulate.h"
 #include "app/synth/synth.h"
@@ -145,6 +147,26 @@ int main(int argc, char** argv) {
       if (positional.size() != 1) return usage_error("validate takes one campaign folder", cmd);
       auto campaign = chatterlab::app::load_campaign(positional[0]);
       return chatterlab::app::validate_campaign(campaign, std::cout);
+    }
+    if (cmd == "compare") {
+      if (positional.size() != 2) return usage_error("compare takes two results.json files", cmd);
+      const chatterlab::app::CompareOptions options =
+          line.tolerances.empty() ? chatterlab::app::CompareOptions{}
+                                  : chatterlab::app::load_tolerances(line.tolerances);
+      chatterlab::app::Comparison c =
+          chatterlab::app::compare_results(chatterlab::app::read_json_file(positional[0]),
+                                           chatterlab::app::read_json_file(positional[1]), options);
+      c.a_label = positional[0];
+      c.b_label = positional[1];
+      if (!line.html.empty()) {
+        chatterlab::app::write_file_checked(line.html, chatterlab::app::comparison_html(c));
+      }
+      if (line.json) {
+        std::cout << chatterlab::app::comparison_json(c).dump(1) << "\n";
+      } else {
+        log << chatterlab::app::comparison_text(c);
+      }
+      return c.flags() > 0 ? chatterlab::app::kExitFlagged : chatterlab::app::kExitOk;
     }
     if (cmd == "init") {
       if (positional.size() != 1) return usage_error("init takes one folder", cmd);
