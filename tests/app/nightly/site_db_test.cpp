@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <fstream>
+#include <memory>
 
 #include "analysis/common/summary.h"
 #include "render/temp_dir.h"
@@ -28,6 +29,40 @@ void add_run(SiteDb& db, const std::string& version) {
                       "VALUES ('2026-12-01T00:00:00Z', '2026-12-01T00:01:00Z', ?, '{}', 60)");
   s.bind(1, version);
   EXPECT_FALSE(s.step());
+}
+
+// Forks a child that runs `hold` (which takes a transaction or a lock), then tells the parent
+// and waits to be killed; returns the child's pid once `hold` has returned.
+template <class Hold>
+pid_t child_holding(Hold&& hold) {
+  int ready[2];
+  if (::pipe(ready) != 0) return -1;
+  const pid_t child = ::fork();
+  if (child == 0) {
+    ::close(ready[0]);
+    try {
+      hold();
+    } catch (...) {
+      ::_exit(3);
+    }
+    const char c = 'x';
+    if (::write(ready[1], &c, 1) != 1) ::_exit(2);
+    ::pause();  // killed here, holding what `hold` took
+    ::_exit(0);
+  }
+  ::close(ready[1]);
+  char c = 0;
+  const bool ok = child > 0 && ::read(ready[0], &c, 1) == 1;
+  ::close(ready[0]);
+  return ok ? child : -1;
+}
+
+// Kills the child with SIGKILL and says whether it died of it.
+bool kill_child(pid_t child) {
+  ::kill(child, SIGKILL);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  return WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
 }
 
 TEST(SiteDb, ANewFileGetsTheCurrentSchemaAndKeepsItsRowsWhenReopened) {
@@ -100,27 +135,15 @@ TEST(SiteDb, AWriterKilledInsideATransactionLeavesThePreviousStateReadable) {
     SiteDb db(file);
     add_run(db, "committed");
   }
-  int ready[2];
-  ASSERT_EQ(::pipe(ready), 0);
-  const pid_t child = ::fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
-    ::close(ready[0]);
-    SiteDb db(file);
-    db.exec("BEGIN IMMEDIATE");
-    for (int i = 0; i < 2000; ++i) add_run(db, "uncommitted");
-    const char c = 'x';
-    if (::write(ready[1], &c, 1) != 1) ::_exit(2);
-    ::pause();  // killed here, mid-transaction
-    ::_exit(0);
-  }
-  ::close(ready[1]);
-  char c = 0;
-  ASSERT_EQ(::read(ready[0], &c, 1), 1);
-  ::kill(child, SIGKILL);
-  int status = 0;
-  ::waitpid(child, &status, 0);
-  ASSERT_TRUE(WIFSIGNALED(status));
+  // Kept alive in the child until it is killed.
+  std::unique_ptr<SiteDb> open;
+  const pid_t child = child_holding([&] {
+    open = std::make_unique<SiteDb>(file);
+    open->exec("BEGIN IMMEDIATE");
+    for (int i = 0; i < 2000; ++i) add_run(*open, "uncommitted");
+  });
+  ASSERT_GT(child, 0);
+  ASSERT_TRUE(kill_child(child));
   SiteDb db(file);
   EXPECT_EQ(count(db, "runs"), 1);
   SiteDb::Statement s(db, "SELECT version FROM runs");
@@ -150,28 +173,12 @@ TEST(SiteLock, ASecondRunIsRefusedByNameAndAKilledHolderLeavesNoLock) {
   }
   SiteLock again(site, false);  // released with its holder
   // A holder killed with SIGKILL releases the lock with its process.
-  int ready[2];
-  ASSERT_EQ(::pipe(ready), 0);
-  const pid_t child = ::fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
-    ::close(ready[0]);
-    try {
-      SiteLock held(dir.path() / "other", false);
-      const char c = 'x';
-      if (::write(ready[1], &c, 1) != 1) ::_exit(2);
-      ::pause();
-    } catch (...) {
-      ::_exit(3);
-    }
-    ::_exit(0);
-  }
-  ::close(ready[1]);
-  char c = 0;
-  ASSERT_EQ(::read(ready[0], &c, 1), 1);
+  std::unique_ptr<SiteLock> held;
+  const pid_t child =
+      child_holding([&] { held = std::make_unique<SiteLock>(dir.path() / "other", false); });
+  ASSERT_GT(child, 0);
   EXPECT_THROW(SiteLock(dir.path() / "other", false), InputError);
-  ::kill(child, SIGKILL);
-  ::waitpid(child, nullptr, 0);
+  ASSERT_TRUE(kill_child(child));
   EXPECT_NO_THROW(SiteLock(dir.path() / "other", false));
 }
 
