@@ -5,9 +5,17 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "analysis/common/summary.h"
 #include "app/core/yaml_load.h"
 
 namespace chatterlab::app {
+
+void YamlReader::throw_if_errors() const {
+  if (errors_.empty()) return;
+  std::string msg;
+  for (const auto& e : errors_) msg += (msg.empty() ? "" : "\n") + e;
+  throw InputError(msg);
+}
 namespace {
 
 // A number in *out (possibly not finite: .inf, .nan, or 1e400 read as infinity).

@@ -50,6 +50,9 @@ class YamlReader {
   void warn(const std::string& key_path, const std::string& what);
 
   const std::vector<std::string>& errors() const { return errors_; }
+  // Throws InputError with every error, one per line, when there is any (a spec or settings
+  // file that is read whole or not at all).
+  void throw_if_errors() const;
   const std::vector<std::string>& warnings() const { return warnings_; }
   const std::string& file() const { return file_; }
 

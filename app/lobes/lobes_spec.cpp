@@ -170,11 +170,7 @@ LobesSpec load_lobes_spec(const std::filesystem::path& file) {
                 " modes: (steps_per_tooth + 2) x modes must be at most " +
                 std::to_string(lobes::kMaxDelayStates) + " (the size of the eigenvalue problem)");
   }
-  if (!r.errors().empty()) {
-    std::string msg;
-    for (const auto& e : r.errors()) msg += (msg.empty() ? "" : "\n") + e;
-    throw InputError(msg);
-  }
+  r.throw_if_errors();
   s.warnings = r.warnings();
   // The core's own checks (e.g. a tooth count the coefficients do not match), as an input error.
   try {

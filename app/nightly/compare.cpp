@@ -157,11 +157,7 @@ CompareOptions load_tolerances(const std::filesystem::path& file) {
       }
     }
   }
-  if (!r.errors().empty()) {
-    std::string all;
-    for (const auto& e : r.errors()) all += (all.empty() ? "" : "; ") + e;
-    throw InputError(all);
-  }
+  r.throw_if_errors();
   return o;
 }
 

@@ -169,11 +169,7 @@ SimulationSpec load_simulation_spec(const std::filesystem::path& file) {
       }
     }
   }
-  if (!r.errors().empty()) {
-    std::string msg;
-    for (const auto& e : r.errors()) msg += (msg.empty() ? "" : "\n") + e;
-    throw InputError(msg);
-  }
+  r.throw_if_errors();
   s.warnings = r.warnings();
   return s;
 }

@@ -17,13 +17,6 @@
 namespace chatterlab::app {
 namespace {
 
-void throw_if_errors(const YamlReader& r) {
-  if (r.errors().empty()) return;
-  std::string msg;
-  for (const auto& e : r.errors()) msg += (msg.empty() ? "" : "\n") + e;
-  throw InputError(msg);
-}
-
 void write_text(const std::filesystem::path& p, const std::string& text) {
   std::filesystem::create_directories(p.parent_path());
   std::ofstream out(p);
@@ -175,7 +168,7 @@ SynthSummary synthesize_campaign(const std::filesystem::path& spec_yaml,
     auto parsed = k->parse_synth(root[section], ctx, r);
     if (parsed) sections.emplace_back(k.get(), std::move(parsed));
   }
-  throw_if_errors(r);
+  r.throw_if_errors();
 
   if (before_writing) before_writing();
   std::filesystem::create_directories(out_dir);
