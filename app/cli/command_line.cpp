@@ -75,6 +75,21 @@ const std::vector<CommandSpec>& commands() {
        {{"--write", false,
          "write the proposed files into the folder (an existing campaign.yaml or test.yaml is "
          "never overwritten)"}}},
+      {"nightly",
+       "chatterlab nightly <archive-root> --out <site> [--no-pdf] [--jobs N] [--wait] "
+       "[--tolerances <yaml>] [--quiet]",
+       "run every campaign under the root whose inputs changed since the site's last run; "
+       "write the site: index.html, nightly.json, campaigns/<name>/, history.sqlite "
+       "(docs/nightly.md)",
+       {{"--out", true,
+         "the site folder: new, empty, or one chatterlab nightly wrote (it is updated in "
+         "place)"},
+        {"--no-pdf", false, "write no PDF (the campaigns' and the index's)"},
+        {"--jobs", true, "worker threads inside a campaign (0: one per hardware thread)"},
+        {"--wait", false, "when another nightly run holds the site, wait for it to end"},
+        {"--tolerances", true,
+         "tolerance rules for the regression flags (docs/nightly.md#tolerances)"},
+        {"--quiet", false, "no progress or summary on stdout; errors still on stderr"}}},
       {"compare",
        "chatterlab compare <a/results.json> <b/results.json> [--tolerances <yaml>] [--json] "
        "[--html <file>]",
@@ -109,7 +124,9 @@ const char* const kExitStatusText =
     "  3  internal error (report: a test or group stopped on one; the report names it)\n"
     "  4  report: the report was written but no test was analysed (all skipped, or none)\n"
     "compare: 0 nothing flagged, 1 a number moved beyond its tolerance or vanished (or an\n"
-    "  input cannot be read; stderr says which), 2 the command line does not parse\n";
+    "  input cannot be read; stderr says which), 2 the command line does not parse\n"
+    "nightly: 0 every campaign analysed and nothing flagged, 1 a campaign not read or with\n"
+    "  nothing analysed, a flag, or the site or root refused, 3 an internal error\n";
 
 }  // namespace
 
@@ -194,6 +211,8 @@ ParsedCommandLine parse_command_line(const std::vector<std::string>& args) {
       l.write = true;
     } else if (a == "--single-file") {
       l.single_file = true;
+    } else if (a == "--wait") {
+      l.wait = true;
     } else if (a == "--json") {
       l.json = true;
     } else if (a == "--html") {

@@ -9,7 +9,8 @@
 namespace chatterlab::app {
 
 struct CommandLine {
-  std::string command;  // report | validate | simulate | synth | init | compare; empty for --help /
+  std::string command;  // report | validate | simulate | synth | init | compare | nightly; empty
+                        // for --help /
                         // --version
   std::vector<std::string> positional;
   std::string out;            // --out
@@ -21,7 +22,8 @@ struct CommandLine {
   bool write = false;         // --write (init): write the proposed files
   bool json = false;          // --json (compare): the table as JSON on stdout
   std::string html;           // --html <file> (compare): also the table as an HTML page
-  std::string tolerances;     // --tolerances <yaml> (compare): tolerance rules
+  std::string tolerances;     // --tolerances <yaml> (compare, nightly): tolerance rules
+  bool wait = false;          // --wait (nightly): queue behind a run that holds the site
   bool help = false;          // --help / -h: the usage of `command` (or of every command)
   bool version = false;       // --version
 };

@@ -20,6 +20,7 @@
 #include "app/core/checked_write.h"
 #include "app/lobes/lobes_run.h"
 #include "app/nightly/compare.h"
+#include "app/nightly/nightly.h"
 #include "app/report/report.h"
 #include "app/simulate/simulate.h"
 #include "app/synth/synth.h"
@@ -167,6 +168,19 @@ int main(int argc, char** argv) {
         log << chatterlab::app::comparison_text(c);
       }
       return c.flags() > 0 ? chatterlab::app::kExitFlagged : chatterlab::app::kExitOk;
+    }
+    if (cmd == "nightly") {
+      if (positional.size() != 1 || out.empty()) {
+        return usage_error("nightly takes one archive root and --out <site>", cmd);
+      }
+      chatterlab::app::NightlyOptions no;
+      no.pdf = line.pdf;
+      no.jobs = line.jobs;
+      no.wait = line.wait;
+      no.errors = &std::cerr;
+      if (!line.tolerances.empty())
+        no.tolerances = chatterlab::app::load_tolerances(line.tolerances);
+      return chatterlab::app::run_nightly(positional[0], out, no, log);
     }
     if (cmd == "init") {
       if (positional.size() != 1) return usage_error("init takes one folder", cmd);

@@ -71,17 +71,21 @@ CREATE TABLE runs (
   finished_utc TEXT NOT NULL,
   version TEXT NOT NULL,
   options TEXT NOT NULL,
-  runtime_s REAL NOT NULL
+  runtime_s REAL NOT NULL,
+  status TEXT NOT NULL
 );
 CREATE TABLE campaign_runs (
   run_id INTEGER NOT NULL REFERENCES runs(id),
   name TEXT NOT NULL,
   path TEXT NOT NULL,
   status TEXT NOT NULL,
+  message TEXT NOT NULL,
   last_change_utc TEXT NOT NULL,
   recomputed TEXT NOT NULL,
   cached TEXT NOT NULL,
   flags TEXT NOT NULL,
+  campaign_key TEXT NOT NULL,
+  results_sha256 TEXT NOT NULL,
   results BLOB,
   PRIMARY KEY (run_id, name)
 );

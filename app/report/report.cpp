@@ -163,6 +163,8 @@ FigureSet draw_figures(const CampaignResults& r, const std::filesystem::path& ou
   return work.draw(out, jobs);
 }
 
+}  // namespace
+
 // The campaign folder's own name ("demo" for /any/where/demo/): the report shows no path of
 // the machine it ran on.
 std::string campaign_folder_name(const CampaignSpec& c) {
@@ -188,8 +190,6 @@ std::string results_campaign_name(const CampaignSpec& c) {
   if (name.empty() || name == "." || name == "..") name = "campaign";
   return name;
 }
-
-}  // namespace
 
 int run_report(const std::filesystem::path& campaign_dir, const std::filesystem::path& out,
                const ReportOptions& options, std::ostream& log, const KindRegistry& kinds) {

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <functional>
 #include <ostream>
+#include <string>
 
 #include "app/pipeline/pipeline.h"
 
@@ -26,6 +27,15 @@ struct ReportOptions {
   // app/cli/output_folder.h).
   std::function<void()> before_writing;
 };
+
+// The campaign folder's own name ("demo" for /any/where/demo/): a report shows no path of the
+// machine it ran on.
+std::string campaign_folder_name(const CampaignSpec& c);
+
+// results.json `campaign` (it matches [A-Za-z0-9._-]+, docs/results.schema.json): campaign.yaml
+// `name` when it is set and valid, else the campaign folder's name with every other character
+// as '-' ("campaign" when nothing is left).
+std::string results_campaign_name(const CampaignSpec& c);
 
 // Returns the process exit code (app/cli/exit_codes.h, docs/cli.md#exit-status): 0 when the
 // report was written and at least one test analysed (skipped tests included); 1 when the

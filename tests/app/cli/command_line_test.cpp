@@ -35,7 +35,12 @@ TEST(CommandLine, OptionsOfOtherCommandsAndUnknownOptionsAreErrors) {
             "--jobs takes a whole number >= 0, got 'two'");
   EXPECT_EQ(parse({"report", "camp", "--jobs", "-1"}).error,
             "--jobs takes a whole number >= 0, got '-1'");
-  EXPECT_EQ(parse({"nightly", "archive"}).error, "unknown command 'nightly'");
+  EXPECT_EQ(parse({"nighty", "archive"}).error, "unknown command 'nighty'");
+  EXPECT_EQ(parse({"nightly", "archive", "--out", "site", "--wait", "--no-pdf"}).error, "");
+  EXPECT_EQ(parse({"compare", "a.json", "b.json", "--wait"}).error,
+            "option '--wait' does not apply to compare");
+  EXPECT_EQ(parse({"report", "camp", "--out", "r", "--json"}).error,
+            "option '--json' does not apply to report");
   EXPECT_EQ(parse({"lobes", "spec.yaml", "--out", "o", "--results-only", "--jobs", "2"}).error, "");
   EXPECT_EQ(parse({"lobes", "spec.yaml", "--out", "o", "--single-file"}).error,
             "option '--single-file' does not apply to lobes");

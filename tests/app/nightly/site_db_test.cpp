@@ -25,8 +25,9 @@ std::int64_t count(SiteDb& db, const std::string& table) {
 
 void add_run(SiteDb& db, const std::string& version) {
   SiteDb::Statement s(db,
-                      "INSERT INTO runs (started_utc, finished_utc, version, options, runtime_s) "
-                      "VALUES ('2026-12-01T00:00:00Z', '2026-12-01T00:01:00Z', ?, '{}', 60)");
+                      "INSERT INTO runs (started_utc, finished_utc, version, options, runtime_s, "
+                      "status) VALUES ('2026-12-01T00:00:00Z', '2026-12-01T00:01:00Z', ?, '{}', "
+                      "60, 'done')");
   s.bind(1, version);
   EXPECT_FALSE(s.step());
 }

@@ -1,0 +1,313 @@
+// chatterlab nightly (app/nightly/nightly.h) on a small archive: two synthetic campaigns (one
+// with a cut that uses the hammer modes) and one whose campaign.yaml cannot be read. First
+// run, a run with nothing changed, a run after one test.yaml was touched, a deliberate change
+// that must be flagged, a run killed mid-way and run again, and a second run refused while
+// one holds the site.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <regex>
+#include <thread>
+
+#include "analysis/common/summary.h"
+#include "app/core/hashing.h"
+#include "app/nightly/cache_keys.h"
+#include "app/nightly/nightly.h"
+#include "app/nightly/site_db.h"
+#include "app/synth/synth.h"
+#include "render/temp_dir.h"
+#include "tests/app/cli/run_binary.h"
+#include "tests/support/synth_spec.h"
+
+namespace chatterlab::app {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// Writes the archive: a/ (tap, dyno-slot and one short cut), b/ (tap and dyno-slot, another
+// seed) and broken/ (a campaign.yaml that is not YAML).
+void write_archive(const fs::path& root, const fs::path& scratch) {
+  for (const std::string name : {"a", "b"}) {
+    chatterlab::testing::SynthSpecText st;
+    st.name = "nightly-" + name;
+    st.seed = name == "a" ? 3 : 4;
+    st.tap_sample_rate_hz = 12800;
+    st.tap_hit_spacing_s = 0.5;
+    st.dyno_duration_s = 0.5;
+    st.cut_air_revolutions = 10;
+    if (name == "a") {
+      st.cut_tests =
+          "    - {name: constant, axial_depth_mm: 1.0, duration_s: 0.1, offset_angle_deg: 147.0}\n";
+    }
+    const fs::path spec = scratch / (name + ".synth.yaml");
+    std::ofstream(spec) << st.text();
+    synthesize_campaign(spec, root / name);
+    if (name == "a") {
+      std::ofstream(root / name / "campaign.yaml", std::ios::app)
+          << "estimation: {window_s: 0.02, max_passes: 1, repeat_runs: 0, settle_revolutions: 5}\n";
+    }
+  }
+  fs::create_directories(root / "broken");
+  std::ofstream(root / "broken" / "campaign.yaml") << "name: [unclosed\n";
+}
+
+json read_json(const fs::path& p) {
+  std::ifstream in(p);
+  return json::parse(in);
+}
+
+std::vector<std::string> strings(const json& j) {
+  std::vector<std::string> v;
+  for (const auto& s : j) v.push_back(s.get<std::string>());
+  return v;
+}
+
+NightlyOptions quiet_options() {
+  NightlyOptions o;
+  o.pdf = false;
+  o.jobs = 2;
+  return o;
+}
+
+class Nightly : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new render::TempDir("nightly");
+    write_archive(dir_->path() / "archive", dir_->path());
+  }
+  static void TearDownTestSuite() {
+    delete dir_;
+    dir_ = nullptr;
+  }
+  // A copy of the archive for a test that edits it.
+  static fs::path archive_copy(const std::string& name) {
+    const fs::path to = dir_->path() / name;
+    fs::copy(dir_->path() / "archive", to, fs::copy_options::recursive);
+    return to;
+  }
+  static int run(const fs::path& root, const fs::path& site, std::string* log_text = nullptr) {
+    std::ostringstream log, err;
+    NightlyOptions o = quiet_options();
+    o.errors = &err;
+    const int rc = run_nightly(root, site, o, log);
+    if (log_text) *log_text = log.str() + err.str();
+    return rc;
+  }
+  static render::TempDir* dir_;
+};
+render::TempDir* Nightly::dir_ = nullptr;
+
+TEST_F(Nightly, CacheKeysFollowTheTestsThatUseAValue) {
+  const CampaignSpec c = load_campaign(dir_->path() / "archive" / "a");
+  const CampaignKeys k = campaign_keys(c, "program");
+  ASSERT_EQ(k.tests.size(), 6u);  // tap/x, tap/y, three dyno-slot tests, cuts/constant
+  // The cut needs both hammer modes and the coefficients of the dyno-slot group.
+  EXPECT_EQ(k.dependents.at("tap/x"), std::vector<std::string>{"cuts/constant"});
+  EXPECT_EQ(k.dependents.at("dyno/f050"), std::vector<std::string>{"cuts/constant"});
+  EXPECT_TRUE(k.dependents.at("cuts/constant").empty());
+  ASSERT_EQ(k.groups.count("group:dyno-slot"), 1u);
+  // Another program or another test.yaml changes exactly the keys that hold it.
+  const CampaignKeys other = campaign_keys(c, "program 2");
+  for (const auto& [t, key] : k.tests) EXPECT_NE(other.tests.at(t), key) << t;
+  const fs::path copy = archive_copy("keys");
+  std::ofstream(copy / "a" / "tap" / "y" / "test.yaml", std::ios::app) << "# touched\n";
+  const CampaignKeys touched = campaign_keys(load_campaign(copy / "a"), "program");
+  for (const auto& [t, key] : k.tests) {
+    const bool changes = t == "tap/y" || t == "cuts/constant";
+    EXPECT_EQ(touched.tests.at(t) != key, changes) << t;
+  }
+}
+
+TEST_F(Nightly, FirstRunNoChangeAndOneTouchedTest) {
+  const fs::path root = archive_copy("touch");
+  const fs::path site = dir_->path() / "site-touch";
+  std::string log;
+  // broken/ cannot be read: exit 1, the other two run.
+  ASSERT_EQ(run(root, site, &log), 1) << log;
+  const json first = read_json(site / "nightly.json");
+  EXPECT_EQ(first["format"], "chatterlab-nightly/1");
+  ASSERT_EQ(first["campaigns"].size(), 3u);
+  const json& a = first["campaigns"]["nightly-a"];
+  EXPECT_EQ(a["path"], "a");
+  EXPECT_EQ(a["status"], "ok");
+  EXPECT_EQ(a["recomputed"].size(), 6u);
+  EXPECT_TRUE(a["cached"].empty());
+  EXPECT_EQ(a["results"], "campaigns/nightly-a/results.json");
+  EXPECT_EQ(first["campaigns"]["nightly-b"]["recomputed"].size(), 5u);
+  const json& broken = first["campaigns"]["broken"];
+  // Its report says so, with no number; the index names campaign.yaml's error.
+  EXPECT_EQ(broken["status"], "nothing-analysed");
+  EXPECT_NE(broken["message"].get<std::string>().find("campaign.yaml"), std::string::npos)
+      << broken;
+  const std::string index = chatterlab::testing::file_text(site / "index.html");
+  for (const char* s : {"campaigns/nightly-a/index.html", "campaigns/nightly-b/index.html",
+                        "nothing-analysed", "fn_hz"}) {
+    EXPECT_NE(index.find(s), std::string::npos) << s;
+  }
+  const json a_first = read_json(site / "campaigns/nightly-a/results.json");
+  const std::string a_results = sha256_file(site / "campaigns/nightly-a/results.json");
+  const auto a_time = fs::last_write_time(site / "campaigns/nightly-a/results.json");
+
+  // Nothing changed: every test of a and b comes from the cache, their folders untouched.
+  ASSERT_EQ(run(root, site, &log), 1) << log;
+  const json second = read_json(site / "nightly.json");
+  for (const char* c : {"nightly-a", "nightly-b"}) {
+    EXPECT_TRUE(second["campaigns"][c]["recomputed"].empty()) << c;
+    EXPECT_EQ(second["campaigns"][c]["cached"], first["campaigns"][c]["recomputed"]) << c;
+    EXPECT_EQ(second["campaigns"][c]["last_change_utc"], first["campaigns"][c]["last_change_utc"]);
+  }
+  EXPECT_EQ(sha256_file(site / "campaigns/nightly-a/results.json"), a_results);
+  EXPECT_EQ(fs::last_write_time(site / "campaigns/nightly-a/results.json"), a_time);
+
+  // tap/x touched: a recomputes (tap/x changed, the cut uses its mode); b stays cached; the
+  // recomputed results equal the first run's, timings aside.
+  std::ofstream(root / "a" / "tap" / "x" / "test.yaml", std::ios::app) << "# touched\n";
+  ASSERT_EQ(run(root, site, &log), 1) << log;
+  const json third = read_json(site / "nightly.json");
+  EXPECT_EQ(strings(third["campaigns"]["nightly-a"]["changed"]),
+            (std::vector<std::string>{"cuts/constant", "tap/x"}));
+  EXPECT_EQ(third["campaigns"]["nightly-a"]["recomputed"].size(), 6u);
+  EXPECT_TRUE(third["campaigns"]["nightly-b"]["recomputed"].empty());
+  EXPECT_TRUE(third["campaigns"]["nightly-a"]["flags"].empty());
+  CompareOptions exact;
+  exact.fallback = {"*", 0, 0, false};
+  exact.rules = {{"inputs_sha256.*", 0, 0, true}};  // the touched file's hash
+  const Comparison same =
+      compare_results(a_first, read_json(site / "campaigns/nightly-a/results.json"), exact);
+  EXPECT_GT(same.numbers_compared, 100);
+  for (const auto& ch : same.changes) ADD_FAILURE() << ch.key;
+}
+
+TEST_F(Nightly, ADeliberatelyChangedResultIsFlagged) {
+  const fs::path root = archive_copy("flag");
+  const fs::path site = dir_->path() / "site-flag";
+  ASSERT_EQ(run(root, site), 1);
+  // A force calibration 5 % off on one dyno-slot record moves the fitted coefficients.
+  const fs::path yaml = root / "b" / "dyno" / "f100" / "test.yaml";
+  std::string text = chatterlab::testing::file_text(yaml);
+  text = std::regex_replace(text, std::regex("Fx: \\{scale: 1\\}"), "Fx: {scale: 1.05}");
+  std::ofstream(yaml) << text;
+  std::string log;
+  EXPECT_EQ(run(root, site, &log), 1) << log;
+  const json n = read_json(site / "nightly.json");
+  const json& flags = n["campaigns"]["nightly-b"]["flags"];
+  ASSERT_FALSE(flags.empty()) << n;
+  // The record's own mean force and the group's edge coefficients moved.
+  const std::vector<std::string> flagged = strings(flags);
+  for (const char* key : {"tests.dyno/f100.mean_Ft_N", "groups.dyno-slot.Kte_N_m"}) {
+    EXPECT_NE(std::find(flagged.begin(), flagged.end(), key), flagged.end()) << key << flags;
+  }
+  EXPECT_TRUE(n["campaigns"]["nightly-a"]["flags"].empty());
+  EXPECT_NE(log.find("flagged"), std::string::npos) << log;
+}
+
+TEST_F(Nightly, ASecondRunOnTheSiteIsRefusedWhileOneHoldsIt) {
+  const fs::path site = dir_->path() / "site-lock";
+  SiteLock held(site, false);
+  try {
+    run(dir_->path() / "archive", site);
+    FAIL() << "ran";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("is in use by another chatterlab nightly"),
+              std::string::npos)
+        << e.what();
+  }
+  // A folder that is not a site is never touched.
+  const fs::path other = dir_->path() / "not-a-site";
+  fs::create_directories(other);
+  std::ofstream(other / "notes.txt") << "mine\n";
+  const auto refused = [&](const fs::path& root, const fs::path& out) {
+    try {
+      run(root, out);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("ran");
+  };
+  EXPECT_NE(refused(dir_->path() / "archive", other).find("is not a chatterlab nightly site"),
+            std::string::npos);
+  EXPECT_EQ(chatterlab::testing::file_text(other / "notes.txt"), "mine\n");
+  EXPECT_NE(refused(dir_->path() / "archive", dir_->path()).find("is the archive root or holds it"),
+            std::string::npos);
+  EXPECT_NE(refused(dir_->path() / "no-archive", dir_->path() / "site-none")
+                .find("no-archive: no such folder (the archive root)"),
+            std::string::npos);
+  EXPECT_FALSE(fs::exists(dir_->path() / "site-none"));
+}
+
+// Starts `chatterlab nightly` and kills it with SIGKILL as soon as it has finished its first
+// campaign (inside the second), then runs it again to the end.
+TEST_F(Nightly, ARunKilledMidWayLeavesAUsableSiteAndTheRerunCompletesIt) {
+  using chatterlab::testing::quoted;
+  const fs::path root = dir_->path() / "archive";
+  const fs::path site = dir_->path() / "site-kill";
+  const fs::path out = dir_->path() / "kill-stdout.txt";
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    const std::string cmd = "exec " + quoted(CHATTERLAB_BINARY) + " nightly " + quoted(root) +
+                            " --out " + quoted(site) + " --no-pdf --jobs 2 > " + quoted(out) +
+                            " 2>&1";
+    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  bool first_done = false;
+  for (int i = 0; i < 6000 && !first_done; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    first_done = chatterlab::testing::file_text(out).find("[1/3]") != std::string::npos;
+  }
+  ::kill(child, SIGKILL);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  ASSERT_TRUE(first_done) << chatterlab::testing::file_text(out);
+  ASSERT_TRUE(WIFSIGNALED(status)) << chatterlab::testing::file_text(out);
+  {
+    // The database is usable and the killed run is on record as not finished.
+    SiteDb db(site / "history.sqlite");
+    SiteDb::Statement check(db, "PRAGMA integrity_check");
+    ASSERT_TRUE(check.step());
+    EXPECT_EQ(check.text(0), "ok");
+    SiteDb::Statement runs(db, "SELECT status FROM runs");
+    ASSERT_TRUE(runs.step());
+    EXPECT_EQ(runs.text(0), "running");
+  }
+  // No half-written report folder is in the campaigns' place.
+  for (const auto& e : fs::directory_iterator(site / "campaigns")) {
+    const std::string n = e.path().filename().string();
+    if (n[0] == '.') continue;
+    EXPECT_TRUE(fs::exists(e.path() / "results.json")) << n;
+  }
+
+  // The same program again (the cache keys hold the executable's hash).
+  const auto rerun = chatterlab::testing::run_chatterlab(
+      "nightly " + quoted(root) + " --out " + quoted(site) + " --no-pdf --jobs 2", dir_->path());
+  ASSERT_EQ(rerun.status, 1) << rerun.out << rerun.err;
+  const json n = read_json(site / "nightly.json");
+  // a finished before the kill: cached now; b is computed.
+  EXPECT_TRUE(n["campaigns"]["nightly-a"]["recomputed"].empty()) << n;
+  EXPECT_EQ(n["campaigns"]["nightly-b"]["recomputed"].size(), 5u) << n;
+  for (const char* c : {"nightly-a", "nightly-b"}) {
+    EXPECT_EQ(n["campaigns"][c]["status"], "ok") << c;
+    EXPECT_TRUE(fs::exists(site / "campaigns" / c / "index.html")) << c;
+  }
+  // Nothing of the killed run is left: only the report folders and their locks.
+  for (const auto& e : fs::directory_iterator(site / "campaigns")) {
+    const std::string name = e.path().filename().string();
+    const bool lock = name.size() > 16 && name.substr(name.size() - 16) == ".chatterlab-lock";
+    EXPECT_TRUE(name == "nightly-a" || name == "nightly-b" || name == "broken" || lock)
+        << "left behind: " << name;
+  }
+  SiteDb db(site / "history.sqlite");
+  SiteDb::Statement runs(db, "SELECT status FROM runs ORDER BY id");
+  std::vector<std::string> statuses;
+  while (runs.step()) statuses.push_back(runs.text(0));
+  EXPECT_EQ(statuses, (std::vector<std::string>{"interrupted", "done"}));
+}
+
+}  // namespace
+}  // namespace chatterlab::app
