@@ -92,10 +92,14 @@ const std::vector<CommandSpec>& commands() {
         {"--quiet", false, "no progress or summary on stdout; errors still on stderr"}}},
       {"compare",
        "chatterlab compare <a/results.json> <b/results.json> [--tolerances <yaml>] [--json] "
-       "[--html <file>]",
-       "every number of two results.json files that moved beyond its tolerance, a to b; exit 1 "
-       "when one is flagged (docs/nightly.md#compare)",
-       {{"--tolerances", true,
+       "[--html <file>]\n       chatterlab compare <run-a> <run-b> --site <site> [--campaign "
+       "<name>] [...]",
+       "every number of two results.json files (or two runs of a nightly site's history) that "
+       "moved beyond its tolerance, a to b; exit 1 when one is flagged (docs/nightly.md#compare)",
+       {{"--site", true,
+         "a and b are runs of this nightly site's history: a number, 'last' or 'last-N'"},
+        {"--campaign", true, "with --site: compare this campaign alone (default: every one)"},
+        {"--tolerances", true,
          "tolerance rules by key family (default: rel 1e-9; timings ignored; "
          "docs/nightly.md#tolerances)"},
         {"--json", false, "print the table as JSON instead of text"},
@@ -211,6 +215,10 @@ ParsedCommandLine parse_command_line(const std::vector<std::string>& args) {
       l.write = true;
     } else if (a == "--single-file") {
       l.single_file = true;
+    } else if (a == "--site") {
+      l.site = value;
+    } else if (a == "--campaign") {
+      l.campaign = value;
     } else if (a == "--wait") {
       l.wait = true;
     } else if (a == "--json") {

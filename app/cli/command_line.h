@@ -24,6 +24,8 @@ struct CommandLine {
   std::string html;           // --html <file> (compare): also the table as an HTML page
   std::string tolerances;     // --tolerances <yaml> (compare, nightly): tolerance rules
   bool wait = false;          // --wait (nightly): queue behind a run that holds the site
+  std::string site;           // --site <site> (compare): a and b are runs of its history
+  std::string campaign;       // --campaign <name> (compare --site): that campaign alone
   bool help = false;          // --help / -h: the usage of `command` (or of every command)
   bool version = false;       // --version
 };

@@ -20,6 +20,7 @@
 #include "app/core/checked_write.h"
 #include "app/lobes/lobes_run.h"
 #include "app/nightly/compare.h"
+#include "app/nightly/history.h"
 #include "app/nightly/nightly.h"
 #include "app/report/report.h"
 #include "app/simulate/simulate.h"
@@ -150,15 +151,38 @@ int main(int argc, char** argv) {
       return chatterlab::app::validate_campaign(campaign, std::cout);
     }
     if (cmd == "compare") {
-      if (positional.size() != 2) return usage_error("compare takes two results.json files", cmd);
+      if (positional.size() != 2) {
+        return usage_error("compare takes two results.json files, or two runs with --site", cmd);
+      }
+      if (!line.campaign.empty() && line.site.empty()) {
+        return usage_error("--campaign goes with --site", cmd);
+      }
       const chatterlab::app::CompareOptions options =
           line.tolerances.empty() ? chatterlab::app::CompareOptions{}
                                   : chatterlab::app::load_tolerances(line.tolerances);
-      chatterlab::app::Comparison c =
-          chatterlab::app::compare_results(chatterlab::app::read_json_file(positional[0]),
-                                           chatterlab::app::read_json_file(positional[1]), options);
-      c.a_label = positional[0];
-      c.b_label = positional[1];
+      nlohmann::json a, b;
+      std::string a_label = positional[0], b_label = positional[1];
+      if (line.site.empty()) {
+        a = chatterlab::app::read_json_file(positional[0]);
+        b = chatterlab::app::read_json_file(positional[1]);
+      } else {
+        const std::filesystem::path db_file = std::filesystem::path(line.site) / "history.sqlite";
+        if (!std::filesystem::is_regular_file(db_file)) {
+          throw chatterlab::InputError("--site " + line.site +
+                                       ": no history.sqlite (not a chatterlab nightly site)");
+        }
+        chatterlab::app::SiteDb db(db_file);
+        const std::int64_t ra = chatterlab::app::resolve_run(db, positional[0]);
+        const std::int64_t rb = chatterlab::app::resolve_run(db, positional[1]);
+        a = chatterlab::app::run_results(db, ra, line.campaign);
+        b = chatterlab::app::run_results(db, rb, line.campaign);
+        const std::string what = line.campaign.empty() ? "" : " " + line.campaign;
+        a_label = line.site + " run " + std::to_string(ra) + what;
+        b_label = line.site + " run " + std::to_string(rb) + what;
+      }
+      chatterlab::app::Comparison c = chatterlab::app::compare_results(a, b, options);
+      c.a_label = a_label;
+      c.b_label = b_label;
       if (!line.html.empty()) {
         chatterlab::app::write_file_checked(line.html, chatterlab::app::comparison_html(c));
       }

@@ -204,6 +204,31 @@ TEST_F(Nightly, ADeliberatelyChangedResultIsFlagged) {
   }
   EXPECT_TRUE(n["campaigns"]["nightly-a"]["flags"].empty());
   EXPECT_NE(log.find("flagged"), std::string::npos) << log;
+
+  // The same two nights from the site's history: the first run's results against the second's.
+  using chatterlab::testing::quoted;
+  using chatterlab::testing::run_chatterlab;
+  auto r = run_chatterlab(
+      "compare last-1 last --json --site " + quoted(site) + " --campaign nightly-b", dir_->path());
+  EXPECT_EQ(r.status, 1) << r.err;
+  const json table = json::parse(r.out);
+  EXPECT_EQ(table["flags"].get<int>(), static_cast<int>(flags.size())) << r.out;
+  // a was cached in the second run: its results are the first run's, nothing moved.
+  r = run_chatterlab("compare 1 2 --site " + quoted(site) + " --campaign nightly-a", dir_->path());
+  EXPECT_EQ(r.status, 0) << r.out << r.err;
+  // Every campaign at once: b's flags, under its name.
+  r = run_chatterlab("compare 1 last --json --site " + quoted(site), dir_->path());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(json::parse(r.out)["changes"][0]["key"].get<std::string>().rfind("nightly-b.", 0), 0u)
+      << r.out;
+  r = run_chatterlab("compare last-5 last --site " + quoted(site), dir_->path());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("has no run last-5 (fewer finished runs)"), std::string::npos) << r.err;
+  r = run_chatterlab("compare 1 2 --site " + quoted(site) + " --campaign nope", dir_->path());
+  EXPECT_NE(r.err.find("has no results of campaign 'nope'"), std::string::npos) << r.err;
+  r = run_chatterlab("compare 1 2 --site " + quoted(dir_->path()), dir_->path());
+  EXPECT_NE(r.err.find("no history.sqlite (not a chatterlab nightly site)"), std::string::npos)
+      << r.err;
 }
 
 TEST_F(Nightly, ASecondRunOnTheSiteIsRefusedWhileOneHoldsIt) {

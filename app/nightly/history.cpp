@@ -1,0 +1,63 @@
+#include "app/nightly/history.h"
+
+#include <algorithm>
+#include <cctype>
+
+#include "analysis/common/summary.h"
+
+namespace chatterlab::app {
+
+std::int64_t resolve_run(SiteDb& db, const std::string& run) {
+  const std::string where = db.file().parent_path().string();
+  const auto whole = [](const std::string& s) {
+    return !s.empty() && s.size() < 18 &&
+           std::all_of(s.begin(), s.end(), [](char c) { return std::isdigit(c) != 0; });
+  };
+  if (whole(run)) {
+    const std::int64_t id = std::stoll(run);
+    SiteDb::Statement s(db, "SELECT id FROM runs WHERE id = ?");
+    s.bind(1, id);
+    if (s.step()) return id;
+    throw InputError("the site " + where + " has no run " + run);
+  }
+  long back = -1;
+  if (run == "last") {
+    back = 0;
+  } else if (run.rfind("last-", 0) == 0 && whole(run.substr(5))) {
+    back = std::stol(run.substr(5));
+  }
+  if (back < 0) {
+    throw InputError("'" + run + "': a run is its number, 'last' or 'last-N'");
+  }
+  SiteDb::Statement s(db,
+                      "SELECT id FROM runs WHERE status = 'done' ORDER BY id DESC LIMIT 1 "
+                      "OFFSET ?");
+  s.bind(1, static_cast<std::int64_t>(back));
+  if (s.step()) return s.integer(0);
+  throw InputError("the site " + where + " has no run " + run + " (fewer finished runs)");
+}
+
+nlohmann::json run_results(SiteDb& db, std::int64_t run, const std::string& campaign) {
+  nlohmann::json out = nlohmann::json::object();
+  SiteDb::Statement names(db, "SELECT name FROM campaign_runs WHERE run_id = ? ORDER BY name");
+  names.bind(1, run);
+  SiteDb::Statement results(db,
+                            "SELECT results FROM campaign_runs WHERE name = ? AND run_id <= ? "
+                            "AND results IS NOT NULL ORDER BY run_id DESC LIMIT 1");
+  while (names.step()) {
+    const std::string name = names.text(0);
+    if (!campaign.empty() && name != campaign) continue;
+    results.reset();
+    results.bind(1, name).bind(2, run);
+    if (results.step()) out[name] = nlohmann::json::parse(results.blob(0));
+  }
+  if (campaign.empty()) return out;
+  if (!out.contains(campaign)) {
+    throw InputError("run " + std::to_string(run) + " of the site " +
+                     db.file().parent_path().string() + " has no results of campaign '" + campaign +
+                     "'");
+  }
+  return out[campaign];
+}
+
+}  // namespace chatterlab::app
