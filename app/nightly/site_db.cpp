@@ -156,6 +156,13 @@ int SiteDb::schema_version() {
   return s.step() ? static_cast<int>(s.integer(0)) : 0;
 }
 
+std::string SiteDb::integrity_check() {
+  Statement s(*this, "PRAGMA integrity_check");
+  std::string out;
+  while (s.step()) out += (out.empty() ? "" : "\n") + s.text(0);
+  return out;
+}
+
 void SiteDb::exec(const std::string& sql) {
   char* err = nullptr;
   if (sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &err) != SQLITE_OK) {

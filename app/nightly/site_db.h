@@ -45,6 +45,8 @@ class SiteDb {
   SiteDb& operator=(const SiteDb&) = delete;
 
   int schema_version();
+  // SQLite's PRAGMA integrity_check: "ok", or the problems it found.
+  std::string integrity_check();
   // Runs SQL without results. @throws std::runtime_error with SQLite's message
   void exec(const std::string& sql);
 

@@ -294,9 +294,7 @@ TEST_F(Nightly, ARunKilledMidWayLeavesAUsableSiteAndTheRerunCompletesIt) {
   {
     // The database is usable and the killed run is on record as not finished.
     SiteDb db(site / "history.sqlite");
-    SiteDb::Statement check(db, "PRAGMA integrity_check");
-    ASSERT_TRUE(check.step());
-    EXPECT_EQ(check.text(0), "ok");
+    EXPECT_EQ(db.integrity_check(), "ok");
     SiteDb::Statement runs(db, "SELECT status FROM runs");
     ASSERT_TRUE(runs.step());
     EXPECT_EQ(runs.text(0), "running");

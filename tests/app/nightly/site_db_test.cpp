@@ -150,9 +150,7 @@ TEST(SiteDb, AWriterKilledInsideATransactionLeavesThePreviousStateReadable) {
   SiteDb::Statement s(db, "SELECT version FROM runs");
   ASSERT_TRUE(s.step());
   EXPECT_EQ(s.text(0), "committed");
-  SiteDb::Statement check(db, "PRAGMA integrity_check");
-  ASSERT_TRUE(check.step());
-  EXPECT_EQ(check.text(0), "ok");
+  EXPECT_EQ(db.integrity_check(), "ok");
 }
 
 TEST(SiteLock, ASecondRunIsRefusedByNameAndAKilledHolderLeavesNoLock) {
