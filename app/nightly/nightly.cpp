@@ -81,6 +81,9 @@ std::map<std::string, std::string> site_names(const std::vector<ArchiveCampaign>
       }
       n += "@" + p;
     }
+    // A plain child of campaigns/: never "." or "..", never hidden (the temporary folders and
+    // locks beside the report folders are).
+    if (n.empty() || n[0] == '.') n = "campaign-" + n;
     out[found[i].path] = n;
   }
   return out;
@@ -224,12 +227,23 @@ int run_nightly(const fs::path& root, const fs::path& site, const NightlyOptions
     st.name = site_name.at(a.path);
     const fs::path folder = site / "campaigns" / st.name;
     CampaignKeys keys;
+    // Keys that cannot be made (a broken invariant) make the campaign's key new in every run.
+    std::string unkeyed;
     try {
       keys = campaign_keys(specs[i], program);
     } catch (const std::exception& e) {
-      keys = {};  // no keys: recomputed
+      keys = {};
+      unkeyed = "unkeyed in run " + std::to_string(run_id) + ": " + e.what() + "\n";
     }
-    std::string campaign_key_text = "pdf=" + std::to_string(options.pdf) + "\n";
+    // The program and campaign.yaml as well, for a campaign without tests.
+    std::string campaign_key_text =
+        "pdf=" + std::to_string(options.pdf) + "\nprogram " + program + "\n";
+    try {
+      campaign_key_text += "campaign.yaml " + sha256_file(a.folder / "campaign.yaml") + "\n";
+    } catch (const InputError&) {
+      campaign_key_text += "campaign.yaml unreadable\n";
+    }
+    campaign_key_text += unkeyed;
     for (const auto& [t, k] : keys.tests) campaign_key_text += t + " " + k + "\n";
     for (const auto& [g, k] : keys.groups) campaign_key_text += g + " " + k + "\n";
     const std::string campaign_key = sha256_text(campaign_key_text);

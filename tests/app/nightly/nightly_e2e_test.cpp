@@ -332,5 +332,26 @@ TEST_F(Nightly, ARunKilledMidWayLeavesAUsableSiteAndTheRerunCompletesIt) {
   EXPECT_EQ(statuses, (std::vector<std::string>{"interrupted", "done"}));
 }
 
+// campaign.yaml names "." and ".." are valid results.json names; in the site they become plain
+// folders, so that nothing but the campaign's own folder is ever replaced or removed.
+TEST_F(Nightly, ACampaignNamedDotOrDotDotGetsAPlainFolder) {
+  const fs::path root = dir_->path() / "dots";
+  for (const std::string n : {"up", "here"}) {
+    fs::create_directories(root / n);
+    std::ofstream(root / n / "campaign.yaml")
+        << "format: chatterlab-campaign/1\nname: " << (n == "up" ? ".." : ".") << "\n";
+  }
+  const fs::path site = dir_->path() / "site-dots";
+  EXPECT_EQ(run(root, site), 1);  // no test analysed in either
+  EXPECT_TRUE(fs::exists(site / "history.sqlite"));
+  const json n = read_json(site / "nightly.json");
+  EXPECT_TRUE(n["campaigns"].contains("campaign-..")) << n;
+  EXPECT_TRUE(n["campaigns"].contains("campaign-.")) << n;
+  EXPECT_TRUE(fs::exists(site / "campaigns" / "campaign-.." / "results.json"));
+  EXPECT_EQ(run(root, site), 1);
+  EXPECT_TRUE(fs::exists(site / "history.sqlite"));
+  EXPECT_TRUE(fs::exists(site / "campaigns" / "campaign-." / "results.json"));
+}
+
 }  // namespace
 }  // namespace chatterlab::app
