@@ -103,10 +103,13 @@ std::string program_identity() {
   return id;
 }
 
-// A campaign's share of the exit status: one not read, or of which no test was analysed, is
-// bad input the lab must see; an internal error is reported as such.
+// A campaign's share of the exit status: one not read, of which no test was analysed, or whose
+// report.pdf could not be written (as `report` exits 1 then) is bad input the lab must see; an
+// internal error is reported as such.
 int campaign_exit_code(const std::string& status) {
-  if (status == "unreadable" || status == "nothing-analysed") return kExitInputError;
+  if (status == "unreadable" || status == "nothing-analysed" || status == "pdf-not-written") {
+    return kExitInputError;
+  }
   if (status == "internal-error") return kExitInternalError;
   return kExitOk;
 }
@@ -274,7 +277,10 @@ int run_nightly(const fs::path& root, const fs::path& site, const NightlyOptions
       if (it == stored.end() || it->second != k) st.changed.push_back(t);
     }
     const fs::path results_file = folder / "results.json";
-    const bool reusable = !prev_key.empty() && prev_key == campaign_key &&
+    // Only a campaign whose last report was complete is left as it is: a missing report.pdf or
+    // an internal error is tried again in every run.
+    const bool reusable = (prev_status == "ok" || prev_status == "nothing-analysed") &&
+                          !prev_key.empty() && prev_key == campaign_key &&
                           fs::is_regular_file(results_file, ec) &&
                           sha256_file(results_file) == prev_results_sha;
     json previous;
@@ -474,11 +480,16 @@ int run_nightly(const fs::path& root, const fs::path& site, const NightlyOptions
   DocumentOptions dopt;
   dopt.pdf = options.pdf;
   const bool pdf_written = write_documents("nightly.html", ctx, stage, dopt, "nightly", doc_log);
-  if (options.pdf && !pdf_written) err << doc_log.str();
+  if (options.pdf && !pdf_written) {
+    err << doc_log.str();
+    exit_code = std::max(exit_code, static_cast<int>(kExitInputError));
+  }
+  // No report.pdf of an earlier run beside this run's index page.
+  if (!pdf_written) fs::remove(site / "report.pdf", ec);
   for (const char* f : {"report.css", "index.html", "report.pdf", "nightly.json"}) {
+    if (f == std::string("report.pdf") && !pdf_written) continue;
     if (fs::exists(stage / f, ec)) fs::rename(stage / f, site / f);
   }
-  if (!options.pdf) fs::remove(site / "report.pdf", ec);
   fs::remove_all(stage, ec);
   {
     SiteDb::Transaction t(db);

@@ -9,7 +9,9 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <fstream>
+#include <memory>
 #include <regex>
 #include <thread>
 
@@ -65,6 +67,43 @@ std::vector<std::string> strings(const json& j) {
   std::vector<std::string> v;
   for (const auto& s : j) v.push_back(s.get<std::string>());
   return v;
+}
+
+// Sets an environment variable for a scope, then restores it.
+class ScopedEnv {
+ public:
+  ScopedEnv(const char* name, const std::string& value) : name_(name) {
+    if (const char* v = std::getenv(name)) {
+      had_ = true;
+      old_ = v;
+    }
+    ::setenv(name, value.c_str(), 1);
+  }
+  ~ScopedEnv() {
+    if (had_) {
+      ::setenv(name_, old_.c_str(), 1);
+    } else {
+      ::unsetenv(name_);
+    }
+  }
+  ScopedEnv(const ScopedEnv&) = delete;
+  ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+ private:
+  const char* name_;
+  bool had_ = false;
+  std::string old_;
+};
+
+// A folder holding a `weasyprint` that always fails, to put first in PATH.
+fs::path failing_weasyprint(const fs::path& dir) {
+  fs::create_directories(dir);
+  std::ofstream(dir / "weasyprint")
+      << "#!/bin/sh\necho 'weasyprint: failing on purpose' >&2\nexit 1\n";
+  fs::permissions(dir / "weasyprint", fs::perms::owner_all | fs::perms::group_read |
+                                          fs::perms::group_exec | fs::perms::others_read |
+                                          fs::perms::others_exec);
+  return dir;
 }
 
 NightlyOptions quiet_options() {
@@ -330,6 +369,54 @@ TEST_F(Nightly, ARunKilledMidWayLeavesAUsableSiteAndTheRerunCompletesIt) {
   std::vector<std::string> statuses;
   while (runs.step()) statuses.push_back(runs.text(0));
   EXPECT_EQ(statuses, (std::vector<std::string>{"interrupted", "done"}));
+}
+
+// A campaign whose report.pdf could not be written exits 1 (as `report` does) and is recomputed
+// the next night even though nothing changed; the site's report.pdf of an earlier run does not
+// stay beside an index page whose PDF failed.
+TEST_F(Nightly, AReportPdfNotWrittenExitsOneIsTriedAgainAndLeavesNoOldPdf) {
+  const fs::path root = dir_->path() / "pdf-archive";
+  fs::create_directories(root);
+  fs::copy(dir_->path() / "archive" / "b", root / "b", fs::copy_options::recursive);
+  const fs::path site = dir_->path() / "site-pdf";
+  const fs::path bin = failing_weasyprint(dir_->path() / "failing-bin");
+  const std::string path = std::getenv("PATH") ? std::getenv("PATH") : "/usr/bin:/bin";
+  const auto run_pdf = [&](bool failing, std::string* log_text) {
+    std::unique_ptr<ScopedEnv> env;
+    if (failing) env = std::make_unique<ScopedEnv>("PATH", bin.string() + ":" + path);
+    std::ostringstream log, err;
+    NightlyOptions o = quiet_options();
+    o.pdf = true;
+    o.errors = &err;
+    const int rc = run_nightly(root, site, o, log);
+    *log_text = log.str() + err.str();
+    return rc;
+  };
+  std::string log;
+  EXPECT_EQ(run_pdf(true, &log), 1) << log;
+  json n = read_json(site / "nightly.json");
+  EXPECT_EQ(n["campaigns"]["nightly-b"]["status"], "pdf-not-written") << n;
+  EXPECT_NE(log.find("failing on purpose"), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(site / "report.pdf"));
+  EXPECT_FALSE(fs::exists(site / "campaigns" / "nightly-b" / "report.pdf"));
+
+  // Nothing changed, but the campaign had no report.pdf: recomputed, now with one.
+  EXPECT_EQ(run_pdf(false, &log), 0) << log;
+  n = read_json(site / "nightly.json");
+  EXPECT_EQ(n["campaigns"]["nightly-b"]["status"], "ok") << n;
+  EXPECT_EQ(n["campaigns"]["nightly-b"]["recomputed"].size(), 5u) << n;
+  EXPECT_TRUE(fs::exists(site / "report.pdf"));
+  EXPECT_TRUE(fs::exists(site / "campaigns" / "nightly-b" / "report.pdf"));
+
+  // The campaign is complete and cached; the index's PDF fails: the old one is removed, exit 1.
+  EXPECT_EQ(run_pdf(true, &log), 1) << log;
+  n = read_json(site / "nightly.json");
+  EXPECT_EQ(n["campaigns"]["nightly-b"]["status"], "ok") << n;
+  EXPECT_TRUE(n["campaigns"]["nightly-b"]["recomputed"].empty()) << n;
+  EXPECT_EQ(n["campaigns"]["nightly-b"]["cached"].size(), 5u) << n;
+  EXPECT_TRUE(fs::exists(site / "index.html"));
+  EXPECT_FALSE(fs::exists(site / "report.pdf"));
+  EXPECT_TRUE(fs::exists(site / "campaigns" / "nightly-b" / "report.pdf"));
 }
 
 // campaign.yaml names "." and ".." are valid results.json names; in the site they become plain
