@@ -15,9 +15,12 @@ namespace chatterlab::app {
 std::int64_t resolve_run(SiteDb& db, const std::string& run);
 
 // The results.json of every campaign that run `run` covered, as an object keyed by campaign
-// name: for each, the results of the latest run at or before `run` that recomputed it (a
-// cached campaign's results are those of the run that computed them). With `campaign`: that
-// campaign's results alone. @throws InputError when the campaign is not in the run
+// name: for each, its row of that run decides. A recomputed campaign's results are the run's;
+// a cached campaign's are those of the latest earlier run that computed them; a campaign that
+// could not be read or stopped before its report was in place (`unreadable`, an internal error
+// outside the tests) is absent. With `campaign`: that campaign's results alone.
+// @throws InputError when the campaign is not in the run or has no results in it (its status
+// and message named)
 nlohmann::json run_results(SiteDb& db, std::int64_t run, const std::string& campaign = "");
 
 }  // namespace chatterlab::app

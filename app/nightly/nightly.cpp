@@ -221,6 +221,7 @@ int run_nightly(const fs::path& root, const fs::path& site, const NightlyOptions
   log << "nightly: " << found.size() << " campaigns under " << root.string() << "\n";
 
   std::vector<CampaignState> states;
+  std::vector<fs::path> remove_after_index;  // report folders of campaigns that did not run
   int exit_code = kExitOk;
   for (std::size_t i = 0; i < found.size(); ++i) {
     const auto tc = std::chrono::steady_clock::now();
@@ -277,6 +278,8 @@ int run_nightly(const fs::path& root, const fs::path& site, const NightlyOptions
       if (it == stored.end() || it->second != k) st.changed.push_back(t);
     }
     const fs::path results_file = folder / "results.json";
+    bool failed = false;          // no report of this run: no keys kept, never reused
+    bool recomputed_now = false;  // a new report folder is in place, its results recorded
     // Only a campaign whose last report was complete is left as it is: a missing report.pdf or
     // an internal error is tried again in every run.
     const bool reusable = (prev_status == "ok" || prev_status == "nothing-analysed") &&
@@ -308,24 +311,41 @@ int run_nightly(const fs::path& root, const fs::path& site, const NightlyOptions
       bool written = false;
       ro.before_writing = [&written] { written = true; };
       int rc = kExitInputError;
+      bool committed = false;  // a new report folder is in place
+      bool internal = false;   // stopped on an exception other than bad input
       try {
         OutputFolder out(folder);
         rc = run_report(a.folder, out.work(), ro, run_log);
-        if (written) out.commit();
-      } catch (const std::exception& e) {
+        if (written) {
+          out.commit();
+          committed = true;
+        }
+      } catch (const InputError& e) {
         run_err << e.what() << "\n";
-        written = false;
+      } catch (const std::exception& e) {
+        run_err << "INTERNAL ERROR: " << e.what() << "\n";
+        internal = true;
       }
-      for (const auto& [t, k] : keys.tests) st.recomputed.push_back(t);
       st.last_change_utc = utc_now();
       // The campaign's own errors first (a campaign.yaml that does not parse), then the run's.
       for (const auto& e : specs[i].errors) st.message += e + "\n";
       st.message += run_err.str();
       while (!st.message.empty() && st.message.back() == '\n') st.message.pop_back();
-      if (!written) {
+      if (internal) {
+        // A bug, a figure or template error, a lock or commit that failed: the previous report
+        // folder stays as it was (OutputFolder removes its temporary folder); nothing was
+        // computed, and the campaign is tried again in the next run.
+        st.status = "internal-error";
+        failed = true;
+      } else if (!committed) {
         st.status = "unreadable";
-        fs::remove_all(folder, ec);  // no report shows numbers of a campaign that did not run
+        failed = true;
+        // No report shows numbers of a campaign that did not run (removed once the index is
+        // in place).
+        remove_after_index.push_back(folder);
       } else {
+        for (const auto& [t, k] : keys.tests) st.recomputed.push_back(t);
+        recomputed_now = true;
         st.status = rc == kExitOk                ? "ok"
                     : rc == kExitInternalError   ? "internal-error"
                     : rc == kExitNothingAnalysed ? "nothing-analysed"
@@ -352,7 +372,7 @@ int run_nightly(const fs::path& root, const fs::path& site, const NightlyOptions
       SiteDb::Statement del(db, "DELETE FROM test_cache WHERE campaign = ?");
       del.bind(1, st.name);
       del.step();
-      if (st.status != "unreadable") {
+      if (!failed) {
         SiteDb::Statement put(db, "INSERT INTO test_cache VALUES (?, ?, ?, ?, ?)");
         for (const auto& [test, key] : keys.tests) {
           json entry;
@@ -372,10 +392,10 @@ int run_nightly(const fs::path& root, const fs::path& site, const NightlyOptions
       row.bind(1, run_id).bind(2, st.name).bind(3, st.path).bind(4, st.status);
       row.bind(5, st.message).bind(6, st.last_change_utc).bind(7, json(st.recomputed).dump());
       row.bind(8, json(st.cached).dump()).bind(9, st.flags.dump());
-      row.bind(10, st.status == "unreadable" ? std::string() : campaign_key);
+      row.bind(10, failed ? std::string() : campaign_key);
       const bool has_results = fs::is_regular_file(results_file, ec);
       row.bind(11, has_results ? sha256_file(results_file) : std::string());
-      if (!st.recomputed.empty() && st.results.is_object()) {
+      if (recomputed_now && st.results.is_object()) {
         row.bind_blob(12, st.results.dump());
       } else {
         row.bind_null(12);
@@ -406,16 +426,18 @@ int run_nightly(const fs::path& root, const fs::path& site, const NightlyOptions
     states.push_back(std::move(st));
   }
 
-  // Report folders of campaigns no longer in the archive leave the site (their history stays).
+  // Report folders of campaigns no longer in the archive leave the site (their history stays),
+  // once the index that no longer links them is in place.
   std::set<std::string> current;
   for (const auto& s : states) current.insert(s.name);
   for (const auto& e : fs::directory_iterator(site / "campaigns", ec)) {
     const std::string n = e.path().filename().string();
     if (n.empty() || n[0] == '.' || current.count(n)) continue;
-    fs::remove_all(e.path(), ec);
+    remove_after_index.push_back(e.path());
   }
 
-  // nightly.json and the index page, each written beside and renamed into place.
+  // nightly.json and the index page, written into a staging folder in the site and renamed
+  // into place one by one, nightly.json last: a nightly.json of this run marks it complete.
   const double runtime = seconds_since(t0);
   json campaigns = json::object();
   json rows = json::array();
@@ -491,6 +513,7 @@ int run_nightly(const fs::path& root, const fs::path& site, const NightlyOptions
     if (fs::exists(stage / f, ec)) fs::rename(stage / f, site / f);
   }
   fs::remove_all(stage, ec);
+  for (const auto& f : remove_after_index) fs::remove_all(f, ec);
   {
     SiteDb::Transaction t(db);
     SiteDb::Statement s(db,

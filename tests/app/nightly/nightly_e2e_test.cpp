@@ -18,8 +18,10 @@
 #include "analysis/common/summary.h"
 #include "app/core/hashing.h"
 #include "app/nightly/cache_keys.h"
+#include "app/nightly/history.h"
 #include "app/nightly/nightly.h"
 #include "app/nightly/site_db.h"
+#include "app/report/document.h"
 #include "app/synth/synth.h"
 #include "render/temp_dir.h"
 #include "tests/app/cli/run_binary.h"
@@ -417,6 +419,102 @@ TEST_F(Nightly, AReportPdfNotWrittenExitsOneIsTriedAgainAndLeavesNoOldPdf) {
   EXPECT_TRUE(fs::exists(site / "index.html"));
   EXPECT_FALSE(fs::exists(site / "report.pdf"));
   EXPECT_TRUE(fs::exists(site / "campaigns" / "nightly-b" / "report.pdf"));
+}
+
+// A copy of the archive's campaign b alone, under `name`.
+fs::path only_b(const fs::path& dir, const std::string& name) {
+  const fs::path root = dir / name;
+  fs::create_directories(root);
+  fs::copy(dir / "archive" / "b", root / "b", fs::copy_options::recursive);
+  return root;
+}
+
+// A campaign that cannot be read in a run (its report folder refused) has no results in that
+// run's history: compare --site shows its numbers as removed, not an earlier night's numbers.
+TEST_F(Nightly, AnUnreadableCampaignHasNoResultsInItsRun) {
+  const fs::path root = only_b(dir_->path(), "unreadable-archive");
+  const fs::path site = dir_->path() / "site-unreadable";
+  std::string log;
+  ASSERT_EQ(run(root, site, &log), 0) << log;
+  // Not a report folder any more: the campaign's report cannot be put in its place.
+  fs::remove_all(site / "campaigns" / "nightly-b");
+  fs::create_directories(site / "campaigns" / "nightly-b");
+  std::ofstream(site / "campaigns" / "nightly-b" / "notes.txt") << "not a report\n";
+  EXPECT_EQ(run(root, site, &log), 1) << log;
+  const json n = read_json(site / "nightly.json");
+  const json& b = n["campaigns"]["nightly-b"];
+  EXPECT_EQ(b["status"], "unreadable") << n;
+  EXPECT_TRUE(b["recomputed"].empty()) << n;  // nothing was computed
+  EXPECT_TRUE(b["cached"].empty()) << n;
+  EXPECT_FALSE(b.contains("results")) << n;
+  EXPECT_FALSE(fs::exists(site / "campaigns" / "nightly-b"));
+
+  SiteDb db(site / "history.sqlite");
+  EXPECT_TRUE(run_results(db, 1).contains("nightly-b"));
+  EXPECT_FALSE(run_results(db, 2).contains("nightly-b")) << run_results(db, 2);
+  try {
+    run_results(db, 2, "nightly-b");
+    FAIL() << "results of an unreadable campaign";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("has no results of campaign 'nightly-b' (unreadable: "),
+              std::string::npos)
+        << e.what();
+  }
+  // Every value of the first run is gone in the second: each number is removed and flagged,
+  // and so is each test's status "ok".
+  const Comparison c = compare_results(run_results(db, 1), run_results(db, 2));
+  ASSERT_GT(c.flags(), 100);
+  int numbers = 0;
+  for (const auto& ch : c.changes) {
+    EXPECT_EQ(ch.key.rfind("nightly-b.", 0), 0u) << ch.key;
+    EXPECT_TRUE(ch.b.is_null()) << ch.key;
+    if (ch.a.is_number()) {
+      ++numbers;
+      EXPECT_EQ(ch.kind, Change::Kind::kRemoved) << ch.key;
+      EXPECT_TRUE(ch.flag) << ch.key;
+    }
+  }
+  EXPECT_GT(numbers, 100);
+  const Change* status = nullptr;
+  for (const auto& ch : c.changes) {
+    if (ch.key == "nightly-b.tests.tap/x.status") status = &ch;
+  }
+  ASSERT_NE(status, nullptr);
+  EXPECT_TRUE(status->flag);
+}
+
+// An exception other than bad input (here a report template that does not parse) is an
+// internal error: exit 3, the previous report folder stays, and the next run recomputes it.
+TEST_F(Nightly, AnInternalErrorKeepsThePreviousReportAndExitsThree) {
+  const fs::path root = only_b(dir_->path(), "internal-archive");
+  const fs::path site = dir_->path() / "site-internal";
+  std::string log;
+  ASSERT_EQ(run(root, site, &log), 0) << log;
+  const std::string first = sha256_file(site / "campaigns" / "nightly-b" / "results.json");
+  const fs::path templates = dir_->path() / "broken-templates";
+  fs::copy(templates_dir(), templates, fs::copy_options::recursive);
+  std::ofstream(templates / "report.html") << "{{#unclosed}}\n";
+  std::ofstream(root / "b" / "tap" / "x" / "test.yaml", std::ios::app) << "# touched\n";
+  {
+    ScopedEnv env("CHATTERLAB_TEMPLATES", templates.string());
+    EXPECT_EQ(run(root, site, &log), 3) << log;
+  }
+  json n = read_json(site / "nightly.json");
+  EXPECT_EQ(n["campaigns"]["nightly-b"]["status"], "internal-error") << n;
+  EXPECT_TRUE(n["campaigns"]["nightly-b"]["recomputed"].empty()) << n;
+  EXPECT_NE(n["campaigns"]["nightly-b"]["message"].get<std::string>().find("INTERNAL ERROR"),
+            std::string::npos)
+      << n;
+  EXPECT_EQ(sha256_file(site / "campaigns" / "nightly-b" / "results.json"), first);
+  {
+    SiteDb db(site / "history.sqlite");
+    EXPECT_FALSE(run_results(db, 2).contains("nightly-b"));
+  }
+  // The templates are back: recomputed though nothing changed since.
+  EXPECT_EQ(run(root, site, &log), 0) << log;
+  n = read_json(site / "nightly.json");
+  EXPECT_EQ(n["campaigns"]["nightly-b"]["status"], "ok") << n;
+  EXPECT_EQ(n["campaigns"]["nightly-b"]["recomputed"].size(), 5u) << n;
 }
 
 // campaign.yaml names "." and ".." are valid results.json names; in the site they become plain
