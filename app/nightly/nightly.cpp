@@ -1,6 +1,7 @@
 #include "app/nightly/nightly.h"
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <fstream>
 #include <map>
@@ -64,7 +65,7 @@ void check_site(const fs::path& site, const fs::path& root) {
 }
 
 // The campaign's folder name in the site: results.json's campaign name, made unique by its
-// path when two campaigns share a name.
+// path when two campaigns share a name, and by a short hash of the path when that is not enough.
 std::map<std::string, std::string> site_names(const std::vector<ArchiveCampaign>& found,
                                               const std::vector<std::string>& names) {
   std::map<std::string, int> count;
@@ -85,6 +86,13 @@ std::map<std::string, std::string> site_names(const std::vector<ArchiveCampaign>
     // locks beside the report folders are).
     if (n.empty() || n[0] == '.') n = "campaign-" + n;
     out[found[i].path] = n;
+  }
+  // Two paths can sanitize alike ("lab/a" and "lab-a"): such names take a short hash of their
+  // path, so that no two campaigns share a folder or a row of the history.
+  std::map<std::string, int> taken;
+  for (const auto& [path, n] : out) ++taken[n];
+  for (auto& [path, n] : out) {
+    if (taken[n] > 1) n += "-" + sha256_text(path).substr(0, 8);
   }
   return out;
 }
@@ -154,15 +162,31 @@ json skipped_tests(const json& results) {
   return rows;
 }
 
+// The run after its row in `runs` was written: every campaign, the index and nightly.json.
+int nightly_campaigns(const fs::path& root, const fs::path& site, const NightlyOptions& options,
+                      std::ostream& log, SiteDb& db, const std::vector<ArchiveCampaign>& found,
+                      const std::string& program, const std::string& started, std::int64_t run_id,
+                      std::chrono::steady_clock::time_point t0);
+
 }  // namespace
 
 std::vector<ArchiveCampaign> find_campaigns(const fs::path& root, const fs::path& skip) {
   std::vector<ArchiveCampaign> out;
   std::error_code ec;
   if (fs::is_regular_file(root / "campaign.yaml", ec)) return {{".", root}};
-  for (auto it = fs::recursive_directory_iterator(
-           root, fs::directory_options::skip_permission_denied, ec);
-       !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+  // A scan that stops half-way (a folder removed meanwhile, an I/O error on a share) would
+  // look like campaigns that left the archive: it is an error.
+  const auto scan_failed = [&root](const std::error_code& e) {
+    return InputError(root.string() +
+                      ": the archive root cannot be read to the end: " + e.message());
+  };
+  fs::recursive_directory_iterator it(root, fs::directory_options::skip_permission_denied, ec);
+  if (ec) throw scan_failed(ec);
+  const auto next = [&] {
+    it.increment(ec);
+    if (ec) throw scan_failed(ec);
+  };
+  for (; it != fs::recursive_directory_iterator(); next()) {
     std::error_code e2;
     if (it->is_symlink(e2) || !it->is_directory(e2)) {
       if (it->is_symlink(e2)) it.disable_recursion_pending();
@@ -185,7 +209,6 @@ std::vector<ArchiveCampaign> find_campaigns(const fs::path& root, const fs::path
 int run_nightly(const fs::path& root, const fs::path& site, const NightlyOptions& options,
                 std::ostream& log) {
   const auto t0 = std::chrono::steady_clock::now();
-  std::ostream& err = options.errors ? *options.errors : log;
   std::error_code ec;
   if (!fs::is_directory(root, ec)) {
     throw InputError(root.string() + ": no such folder (the archive root)");
@@ -194,6 +217,23 @@ int run_nightly(const fs::path& root, const fs::path& site, const NightlyOptions
   SiteLock lock(site, options.wait);
   SiteDb db(site / "history.sqlite");
   fs::create_directories(site / "campaigns");
+
+  const std::vector<ArchiveCampaign> found = find_campaigns(root, site);
+  if (found.empty()) {
+    // An unmounted share is an empty folder: its report folders must not leave the site.
+    SiteDb::Statement s(db,
+                        "SELECT r.id, COUNT(c.name) FROM runs r JOIN campaign_runs c ON c.run_id "
+                        "= r.id WHERE r.id = (SELECT MAX(id) FROM runs WHERE status = 'done') "
+                        "GROUP BY r.id");
+    if (s.step() && s.integer(1) > 0) {
+      throw InputError(root.string() +
+                       ": no campaign found under the archive root, but the site's "
+                       "last run (" +
+                       std::to_string(s.integer(0)) + ") had " + std::to_string(s.integer(1)) +
+                       ": is the archive mounted? Nothing was changed; to start over with an "
+                       "empty archive, give a new --out");
+    }
+  }
 
   const std::string program = program_identity() + " jobs=" + std::to_string(options.jobs);
   const std::string started = utc_now();
@@ -210,7 +250,30 @@ int run_nightly(const fs::path& root, const fs::path& site, const NightlyOptions
     t.commit();
   }
 
-  const std::vector<ArchiveCampaign> found = find_campaigns(root, site);
+  try {
+    return nightly_campaigns(root, site, options, log, db, found, program, started, run_id, t0);
+  } catch (...) {
+    // The run is on record as failed, not as running (the exception goes on to the caller).
+    try {
+      SiteDb::Transaction t(db);
+      SiteDb::Statement s(db, "UPDATE runs SET finished_utc = ?, status = 'failed' WHERE id = ?");
+      s.bind(1, utc_now()).bind(2, run_id);
+      s.step();
+      t.commit();
+    } catch (const std::exception&) {  // the database itself failed: the next run marks it
+    }
+    throw;
+  }
+}
+
+namespace {
+
+int nightly_campaigns(const fs::path& root, const fs::path& site, const NightlyOptions& options,
+                      std::ostream& log, SiteDb& db, const std::vector<ArchiveCampaign>& found,
+                      const std::string& program, const std::string& started, std::int64_t run_id,
+                      std::chrono::steady_clock::time_point t0) {
+  std::ostream& err = options.errors ? *options.errors : log;
+  std::error_code ec;
   std::vector<CampaignSpec> specs;
   std::vector<std::string> names;
   for (const auto& a : found) {
@@ -528,4 +591,5 @@ int run_nightly(const fs::path& root, const fs::path& site, const NightlyOptions
   return exit_code;
 }
 
+}  // namespace
 }  // namespace chatterlab::app

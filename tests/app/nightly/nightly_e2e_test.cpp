@@ -517,6 +517,88 @@ TEST_F(Nightly, AnInternalErrorKeepsThePreviousReportAndExitsThree) {
   EXPECT_EQ(n["campaigns"]["nightly-b"]["recomputed"].size(), 5u) << n;
 }
 
+// A campaign without tests: quick to run, its report says nothing was analysed.
+void write_empty_campaign(const fs::path& folder, const std::string& name) {
+  fs::create_directories(folder);
+  std::ofstream(folder / "campaign.yaml")
+      << "format: chatterlab-campaign/1\nname: " << name << "\n";
+}
+
+// A scan of the root that cannot complete is an error naming the root, and an archive that
+// looks empty while the last run had campaigns (an unmounted share) is refused untouched.
+TEST_F(Nightly, AnArchiveThatCannotBeScannedOrLooksEmptyIsRefused) {
+  const fs::path missing = dir_->path() / "no-such-root";
+  try {
+    find_campaigns(missing);
+    FAIL() << "scanned";
+  } catch (const InputError& e) {
+    EXPECT_NE(
+        std::string(e.what()).find("no-such-root: the archive root cannot be read to the end"),
+        std::string::npos)
+        << e.what();
+  }
+  const fs::path root = dir_->path() / "vanishing";
+  write_empty_campaign(root / "solo", "solo");
+  const fs::path site = dir_->path() / "site-vanishing";
+  EXPECT_EQ(run(root, site), 1);  // nothing analysed
+  ASSERT_TRUE(fs::exists(site / "campaigns" / "solo" / "results.json"));
+  fs::remove_all(root / "solo");
+  try {
+    run(root, site);
+    FAIL() << "ran over an empty archive";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "no campaign found under the archive root, but the site's last run (1) had 1: "
+                  "is the archive mounted?"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_TRUE(fs::exists(site / "campaigns" / "solo" / "results.json"));
+  SiteDb db(site / "history.sqlite");
+  SiteDb::Statement runs(db, "SELECT COUNT(*) FROM runs");
+  ASSERT_TRUE(runs.step());
+  EXPECT_EQ(runs.integer(0), 1);
+}
+
+// Two campaigns of one name whose paths sanitize alike ("lab/a", "lab-a") get two folders.
+TEST_F(Nightly, CampaignsWhosePathsSanitizeAlikeGetTwoFolders) {
+  const fs::path root = dir_->path() / "alike";
+  write_empty_campaign(root / "lab" / "a", "demo");
+  write_empty_campaign(root / "lab-a", "demo");
+  const fs::path site = dir_->path() / "site-alike";
+  std::string log;
+  EXPECT_EQ(run(root, site, &log), 1) << log;  // nothing analysed in either
+  const json n = read_json(site / "nightly.json");
+  const std::string slash = "demo@lab-a-" + sha256_text("lab/a").substr(0, 8);
+  const std::string dash = "demo@lab-a-" + sha256_text("lab-a").substr(0, 8);
+  ASSERT_EQ(n["campaigns"].size(), 2u) << n;
+  EXPECT_EQ(n["campaigns"][slash]["path"], "lab/a") << n;
+  EXPECT_EQ(n["campaigns"][dash]["path"], "lab-a") << n;
+  EXPECT_TRUE(fs::exists(site / "campaigns" / slash / "results.json"));
+  EXPECT_TRUE(fs::exists(site / "campaigns" / dash / "results.json"));
+  EXPECT_EQ(run(root, site, &log), 1) << log;  // and again, with the history's rows
+}
+
+// An exception that ends the run (here: no index template) leaves it on record as failed.
+TEST_F(Nightly, ARunEndedByAnExceptionIsRecordedAsFailed) {
+  const fs::path root = dir_->path() / "no-index";
+  write_empty_campaign(root / "solo", "solo");
+  const fs::path templates = dir_->path() / "templates-without-index";
+  fs::copy(templates_dir(), templates, fs::copy_options::recursive);
+  fs::remove(templates / "nightly.html");
+  const fs::path site = dir_->path() / "site-no-index";
+  {
+    ScopedEnv env("CHATTERLAB_TEMPLATES", templates.string());
+    EXPECT_THROW(run(root, site), std::exception);
+  }
+  SiteDb db(site / "history.sqlite");
+  SiteDb::Statement runs(db, "SELECT status, finished_utc FROM runs");
+  ASSERT_TRUE(runs.step());
+  EXPECT_EQ(runs.text(0), "failed");
+  EXPECT_FALSE(runs.text(1).empty());
+  EXPECT_FALSE(runs.step());
+}
+
 // campaign.yaml names "." and ".." are valid results.json names; in the site they become plain
 // folders, so that nothing but the campaign's own folder is ever replaced or removed.
 TEST_F(Nightly, ACampaignNamedDotOrDotDotGetsAPlainFolder) {
