@@ -93,9 +93,14 @@ std::string change_text(const Change& c) {
 }  // namespace
 
 const std::vector<ToleranceRule>& builtin_tolerance_rules() {
-  // Every timing results.json holds: run times, filter speeds, the ERA's SVD time.
-  static const std::vector<ToleranceRule> rules = {
-      {"*runtime_s", 0, 0, true}, {"*steps_per_s", 0, 0, true}, {"*svd_s", 0, 0, true}};
+  // Every timing results.json holds: run times, filter speeds, the ERA's SVD time; and the
+  // worker threads (--jobs), an option that changes no result (alone, or under a campaign's
+  // name in compare --site).
+  static const std::vector<ToleranceRule> rules = {{"*runtime_s", 0, 0, true},
+                                                   {"*steps_per_s", 0, 0, true},
+                                                   {"*svd_s", 0, 0, true},
+                                                   {"settings.pipeline.jobs", 0, 0, true},
+                                                   {"*.settings.pipeline.jobs", 0, 0, true}};
   return rules;
 }
 

@@ -6,8 +6,9 @@
 // Tolerances come in families: rules matched in order against the key by a shell pattern (`*`
 // any text, `?` one character); the first that matches decides, else the default. A number
 // moved when |b - a| > abs + rel * max(|a|, |b|) (both bounds together, as numpy's isclose
-// but symmetric). Timings (keys ending in runtime_s, steps_per_s or svd_s) are ignored by
-// built-in rules that a user's rule can override.
+// but symmetric). Timings (keys ending in runtime_s, steps_per_s or svd_s) and the worker
+// threads (settings.pipeline.jobs) are ignored by built-in rules that a user's rule can
+// override.
 #pragma once
 
 #include <filesystem>
@@ -30,7 +31,7 @@ struct CompareOptions {
   std::vector<ToleranceRule> rules;               // the user's, tried before the built-in ones
 };
 
-// The built-in rules, tried after the user's: timings are ignored.
+// The built-in rules, tried after the user's: timings and settings.pipeline.jobs are ignored.
 const std::vector<ToleranceRule>& builtin_tolerance_rules();
 
 // Reads a tolerances file (docs/nightly.md#tolerances):

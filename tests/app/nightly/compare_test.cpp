@@ -47,6 +47,28 @@ TEST(Compare, IdenticalDocumentsHaveNoChangeAndTimingsAreNotCompared) {
   EXPECT_EQ(c.numbers_equal, 6);
 }
 
+TEST(Compare, TheWorkerThreadsAreNotComparedUnlessAUserRuleSaysSo) {
+  json a = sample();
+  a["settings"] = {{"pipeline", {{"jobs", 2}}}, {"cut", {{"window_s", 0.02}}}};
+  json b = a;
+  b["settings"]["pipeline"]["jobs"] = 8;
+  Comparison c = compare_results(a, b);
+  EXPECT_TRUE(c.changes.empty());
+  EXPECT_EQ(c.numbers_compared, 7);  // the six of sample() and window_s
+  // Under a campaign's name, as compare --site gives them.
+  c = compare_results(json{{"demo", a}}, json{{"demo", b}});
+  EXPECT_TRUE(c.changes.empty());
+  // Another setting is compared; a user's rule comes first.
+  b["settings"]["cut"]["window_s"] = 0.05;
+  CompareOptions o;
+  o.rules.push_back({"settings.pipeline.jobs", 0, 0, false});
+  c = compare_results(a, b, o);
+  ASSERT_EQ(c.flags(), 2);
+  EXPECT_EQ(c.changes[0].key, "settings.cut.window_s");
+  EXPECT_EQ(c.changes[1].key, "settings.pipeline.jobs");
+  EXPECT_EQ(c.changes[1].rule, "settings.pipeline.jobs");
+}
+
 TEST(Compare, ANumberBeyondTheDefaultToleranceIsFlaggedWithItsChange) {
   json b = sample();
   b["tests"]["tap/x"]["modes"][0]["fn_hz"] = 912.4 * (1 + 1e-6);  // beyond rel 1e-9
