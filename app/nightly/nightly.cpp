@@ -439,8 +439,10 @@ int nightly_campaigns(const fs::path& root, const fs::path& site, const NightlyO
         SiteDb::Statement put(db, "INSERT INTO test_cache VALUES (?, ?, ?, ?, ?)");
         for (const auto& [test, key] : keys.tests) {
           json entry;
-          if (st.results.is_object() && st.results["tests"].contains(test)) {
-            entry = st.results["tests"][test];
+          const json& results = st.results;  // read only: no "tests": null inserted
+          if (const auto tests = results.is_object() ? results.find("tests") : results.end();
+              tests != results.end() && tests->is_object()) {
+            if (const auto it = tests->find(test); it != tests->end()) entry = *it;
           }
           put.reset();
           put.bind(1, st.name).bind(2, test).bind(3, key).bind_blob(4, entry.dump());
