@@ -13,6 +13,7 @@ PACKAGES=(
   libssl-dev weasyprint qpdf poppler-utils fonts-dejavu-core
   python3-jsonschema chromium
   clang libclang-rt-dev
+  slurm-wlm munge
 )
 
 missing=()

@@ -77,7 +77,8 @@ const std::vector<CommandSpec>& commands() {
          "never overwritten)"}}},
       {"nightly",
        "chatterlab nightly <archive-root> --out <site> [--no-pdf] [--jobs N] [--wait] "
-       "[--tolerances <yaml>] [--quiet]",
+       "[--tolerances <yaml>] [--quiet]\n       [--slurm [--partition P] [--time T] [--mem M] "
+       "[--slurm-wait]]",
        "run every campaign under the root whose inputs changed since the site's last run; "
        "write the site: index.html, nightly.json, campaigns/<name>/, history.sqlite "
        "(docs/nightly.md)",
@@ -89,7 +90,26 @@ const std::vector<CommandSpec>& commands() {
         {"--wait", false, "when another nightly run holds the site, wait for it to end"},
         {"--tolerances", true,
          "tolerance rules for the regression flags (docs/nightly.md#tolerances)"},
-        {"--quiet", false, "no progress or summary on stdout; errors still on stderr"}}},
+        {"--quiet", false, "no progress or summary on stdout; errors still on stderr"},
+        {"--slurm", false,
+         "submit the campaigns to recompute as a Slurm job array, a task per campaign, and a "
+         "reduce job that writes the site (docs/nightly.md#on-a-cluster-slurm)"},
+        {"--partition", true, "with --slurm: the partition (default: the cluster's)"},
+        {"--time", true, "with --slurm: each task's time limit, in Slurm's form (1:00:00)"},
+        {"--mem", true, "with --slurm: each task's memory (4G)"},
+        {"--slurm-wait", false,
+         "with --slurm: wait for the reduce job and exit with the run's status"}}},
+      {"nightly-task",
+       "chatterlab nightly-task <site> --run N --task I",
+       "run by the job array of nightly --slurm: report task I of run N into the site's "
+       "slurm/run-N/out/",
+       {{"--run", true, "the run of the site's history"},
+        {"--task", true, "the task's index in the run's plan.json"}}},
+      {"nightly-reduce",
+       "chatterlab nightly-reduce <site> --run N",
+       "run by the reduce job of nightly --slurm: put the tasks' reports into the site, write "
+       "the history, index.html and nightly.json",
+       {{"--run", true, "the run of the site's history"}}},
       {"compare",
        "chatterlab compare <a/results.json> <b/results.json> [--tolerances <yaml>] [--json] "
        "[--html <file>]\n       chatterlab compare <run-a> <run-b> --site <site> [--campaign "
@@ -229,6 +249,30 @@ ParsedCommandLine parse_command_line(const std::vector<std::string>& args) {
       l.tolerances = value;
     } else if (a == "--results-only") {
       l.results_only = true;
+    } else if (a == "--slurm") {
+      l.slurm = true;
+    } else if (a == "--slurm-wait") {
+      l.slurm_wait = true;
+    } else if (a == "--partition") {
+      l.partition = value;
+    } else if (a == "--time") {
+      l.time = value;
+    } else if (a == "--mem") {
+      l.mem = value;
+    } else if (a == "--run" || a == "--task") {
+      std::size_t used = 0;
+      long long n = -1;
+      try {
+        n = std::stoll(value, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != value.size() || n < (a == "--run" ? 1 : 0)) {
+        p.error =
+            a + " takes a whole number >= " + (a == "--run" ? "1" : "0") + ", got '" + value + "'";
+        return p;
+      }
+      (a == "--run" ? l.run : l.task) = n;
     } else if (a == "--jobs") {
       std::size_t used = 0;
       int jobs = -1;

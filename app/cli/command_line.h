@@ -9,7 +9,8 @@
 namespace chatterlab::app {
 
 struct CommandLine {
-  std::string command;  // report | validate | simulate | synth | init | compare | nightly; empty
+  std::string command;  // report | validate | simulate | synth | init | compare | nightly |
+                        // nightly-task | nightly-reduce; empty
                         // for --help /
                         // --version
   std::vector<std::string> positional;
@@ -26,6 +27,13 @@ struct CommandLine {
   bool wait = false;          // --wait (nightly): queue behind a run that holds the site
   std::string site;           // --site <site> (compare): a and b are runs of its history
   std::string campaign;       // --campaign <name> (compare --site): that campaign alone
+  bool slurm = false;         // --slurm (nightly): submit to Slurm (app/nightly/slurm.h)
+  bool slurm_wait = false;    // --slurm-wait (nightly --slurm): wait for the reduce job
+  std::string partition;      // --partition <p> (nightly --slurm)
+  std::string time;           // --time <limit> (nightly --slurm): each task's time limit
+  std::string mem;            // --mem <size> (nightly --slurm): each task's memory
+  long long run = -1;         // --run N (nightly-task, nightly-reduce)
+  long long task = -1;        // --task I (nightly-task)
   bool help = false;          // --help / -h: the usage of `command` (or of every command)
   bool version = false;       // --version
 };

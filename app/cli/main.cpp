@@ -20,6 +20,7 @@
 #include "app/core/checked_write.h"
 #include "app/lobes/lobes_run.h"
 #include "app/nightly/compare.h"
+#include "app/nightly/compute.h"
 #include "app/nightly/history.h"
 #include "app/nightly/nightly.h"
 #include "app/report/report.h"
@@ -197,14 +198,39 @@ int main(int argc, char** argv) {
       if (positional.size() != 1 || out.empty()) {
         return usage_error("nightly takes one archive root and --out <site>", cmd);
       }
+      if (!line.slurm &&
+          (!line.partition.empty() || !line.time.empty() || !line.mem.empty() || line.slurm_wait)) {
+        return usage_error("--partition, --time, --mem and --slurm-wait go with --slurm", cmd);
+      }
       chatterlab::app::NightlyOptions no;
       no.pdf = line.pdf;
       no.jobs = line.jobs;
       no.wait = line.wait;
+      no.slurm.enabled = line.slurm;
+      no.slurm.partition = line.partition;
+      no.slurm.time = line.time;
+      no.slurm.mem = line.mem;
+      no.slurm.wait = line.slurm_wait;
       no.errors = &std::cerr;
-      if (!line.tolerances.empty())
+      if (!line.tolerances.empty()) {
         no.tolerances = chatterlab::app::load_tolerances(line.tolerances);
+        no.tolerances_file = line.tolerances;
+      }
       return chatterlab::app::run_nightly(positional[0], out, no, log);
+    }
+    if (cmd == "nightly-task") {
+      if (positional.size() != 1 || line.run < 1 || line.task < 0) {
+        return usage_error("nightly-task takes one site, --run N and --task I", cmd);
+      }
+      return chatterlab::app::run_nightly_task(positional[0], line.run, line.task, log);
+    }
+    if (cmd == "nightly-reduce") {
+      if (positional.size() != 1 || line.run < 1) {
+        return usage_error("nightly-reduce takes one site and --run N", cmd);
+      }
+      chatterlab::app::NightlyOptions no;
+      no.errors = &std::cerr;
+      return chatterlab::app::run_nightly_reduce(positional[0], line.run, no, log);
     }
     if (cmd == "init") {
       if (positional.size() != 1) return usage_error("init takes one folder", cmd);

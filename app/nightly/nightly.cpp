@@ -17,6 +17,7 @@
 #include "app/core/hashing.h"
 #include "app/git_commit.h"
 #include "app/nightly/cache_keys.h"
+#include "app/nightly/compute.h"
 #include "app/nightly/site_db.h"
 #include "app/report/document.h"
 #include "app/report/report.h"
@@ -162,12 +163,6 @@ json skipped_tests(const json& results) {
   return rows;
 }
 
-// The run after its row in `runs` was written: every campaign, the index and nightly.json.
-int nightly_campaigns(const fs::path& root, const fs::path& site, const NightlyOptions& options,
-                      std::ostream& log, SiteDb& db, const std::vector<ArchiveCampaign>& found,
-                      const std::string& program, const std::string& started, std::int64_t run_id,
-                      std::chrono::steady_clock::time_point t0);
-
 }  // namespace
 
 std::vector<ArchiveCampaign> find_campaigns(const fs::path& root, const fs::path& skip) {
@@ -206,73 +201,57 @@ std::vector<ArchiveCampaign> find_campaigns(const fs::path& root, const fs::path
   return out;
 }
 
-int run_nightly(const fs::path& root, const fs::path& site, const NightlyOptions& options,
-                std::ostream& log) {
-  const auto t0 = std::chrono::steady_clock::now();
-  std::error_code ec;
-  if (!fs::is_directory(root, ec)) {
-    throw InputError(root.string() + ": no such folder (the archive root)");
-  }
-  check_site(site, root);
-  SiteLock lock(site, options.wait);
-  SiteDb db(site / "history.sqlite");
-  fs::create_directories(site / "campaigns");
-
-  const std::vector<ArchiveCampaign> found = find_campaigns(root, site);
-  if (found.empty()) {
-    // An unmounted share is an empty folder: its report folders must not leave the site.
-    SiteDb::Statement s(db,
-                        "SELECT r.id, COUNT(c.name) FROM runs r JOIN campaign_runs c ON c.run_id "
-                        "= r.id WHERE r.id = (SELECT MAX(id) FROM runs WHERE status = 'done') "
-                        "GROUP BY r.id");
-    if (s.step() && s.integer(1) > 0) {
-      throw InputError(root.string() +
-                       ": no campaign found under the archive root, but the site's "
-                       "last run (" +
-                       std::to_string(s.integer(0)) + ") had " + std::to_string(s.integer(1)) +
-                       ": is the archive mounted? Nothing was changed; to start over with an "
-                       "empty archive, give a new --out");
-    }
-  }
-
-  const std::string program = program_identity() + " jobs=" + std::to_string(options.jobs);
-  const std::string started = utc_now();
-  std::int64_t run_id = 0;
-  {
-    SiteDb::Transaction t(db);
-    db.exec("UPDATE runs SET status = 'interrupted' WHERE status = 'running'");
-    SiteDb::Statement s(db,
-                        "INSERT INTO runs (started_utc, finished_utc, version, options, runtime_s, "
-                        "status) VALUES (?, '', ?, ?, 0, 'running')");
-    s.bind(1, started).bind(2, program).bind(3, json({{"pdf", options.pdf}}).dump());
-    s.step();
-    run_id = db.last_insert_id();
-    t.commit();
-  }
-
-  try {
-    return nightly_campaigns(root, site, options, log, db, found, program, started, run_id, t0);
-  } catch (...) {
-    // The run is on record as failed, not as running (the exception goes on to the caller).
-    try {
-      SiteDb::Transaction t(db);
-      SiteDb::Statement s(db, "UPDATE runs SET finished_utc = ?, status = 'failed' WHERE id = ?");
-      s.bind(1, utc_now()).bind(2, run_id);
-      s.step();
-      t.commit();
-    } catch (const std::exception&) {  // the database itself failed: the next run marks it
-    }
-    throw;
-  }
-}
-
 namespace {
 
-int nightly_campaigns(const fs::path& root, const fs::path& site, const NightlyOptions& options,
-                      std::ostream& log, SiteDb& db, const std::vector<ArchiveCampaign>& found,
-                      const std::string& program, const std::string& started, std::int64_t run_id,
-                      std::chrono::steady_clock::time_point t0) {
-  std::ostream& err = options.errors ? *options.errors : log;
+// One campaign of a run as planned under the site's lock: its keys, what changed since the
+// site's last run and whether its report folder can stay as it is. A --slurm run writes the
+// plans into plan.json for its reduce job (from_json reads them back).
+struct CampaignPlan {
+  std::string path;                                  // relative to the root
+  std::string name;                                  // folder name in the site
+  fs::path folder;                                   // the campaign folder
+  std::map<std::string, std::string> tests, groups;  // cache keys (app/nightly/cache_keys.h)
+  std::string campaign_key;
+  std::vector<std::string> changed, spec_errors;
+  bool reusable = false;
+  std::string prev_change, prev_status, prev_message;
+
+  json to_json() const {
+    return {{"path", path},
+            {"name", name},
+            {"folder", folder.string()},
+            {"tests", tests},
+            {"groups", groups},
+            {"campaign_key", campaign_key},
+            {"changed", changed},
+            {"spec_errors", spec_errors},
+            {"reusable", reusable},
+            {"prev_change", prev_change},
+            {"prev_status", prev_status},
+            {"prev_message", prev_message}};
+  }
+  static CampaignPlan from_json(const json& j) {
+    CampaignPlan p;
+    p.path = j.at("path").get<std::string>();
+    p.name = j.at("name").get<std::string>();
+    p.folder = j.at("folder").get<std::string>();
+    p.tests = j.at("tests").get<std::map<std::string, std::string>>();
+    p.groups = j.at("groups").get<std::map<std::string, std::string>>();
+    p.campaign_key = j.at("campaign_key").get<std::string>();
+    p.changed = j.at("changed").get<std::vector<std::string>>();
+    p.spec_errors = j.at("spec_errors").get<std::vector<std::string>>();
+    p.reusable = j.at("reusable").get<bool>();
+    p.prev_change = j.at("prev_change").get<std::string>();
+    p.prev_status = j.at("prev_status").get<std::string>();
+    p.prev_message = j.at("prev_message").get<std::string>();
+    return p;
+  }
+};
+
+std::vector<CampaignPlan> plan_campaigns(const fs::path& site, SiteDb& db,
+                                         const std::vector<ArchiveCampaign>& found,
+                                         const std::string& program, bool pdf,
+                                         std::int64_t run_id) {
   std::error_code ec;
   std::vector<CampaignSpec> specs;
   std::vector<std::string> names;
@@ -281,216 +260,224 @@ int nightly_campaigns(const fs::path& root, const fs::path& site, const NightlyO
     names.push_back(results_campaign_name(specs.back()));
   }
   const std::map<std::string, std::string> site_name = site_names(found, names);
-  log << "nightly: " << found.size() << " campaigns under " << root.string() << "\n";
-
-  std::vector<CampaignState> states;
-  std::vector<fs::path> remove_after_index;  // report folders of campaigns that did not run
-  int exit_code = kExitOk;
+  std::vector<CampaignPlan> plans;
   for (std::size_t i = 0; i < found.size(); ++i) {
-    const auto tc = std::chrono::steady_clock::now();
     const ArchiveCampaign& a = found[i];
-    CampaignState st;
-    st.path = a.path;
-    st.name = site_name.at(a.path);
-    const fs::path folder = site / "campaigns" / st.name;
-    CampaignKeys keys;
+    CampaignPlan p;
+    p.path = a.path;
+    p.name = site_name.at(a.path);
+    p.folder = a.folder;
+    p.spec_errors = specs[i].errors;
     // Keys that cannot be made (a broken invariant) make the campaign's key new in every run.
     std::string unkeyed;
     try {
-      keys = campaign_keys(specs[i], program);
+      const CampaignKeys keys = campaign_keys(specs[i], program);
+      p.tests = keys.tests;
+      p.groups = keys.groups;
     } catch (const std::exception& e) {
-      keys = {};
       unkeyed = "unkeyed in run " + std::to_string(run_id) + ": " + e.what() + "\n";
     }
     // The program and campaign.yaml as well, for a campaign without tests.
-    std::string campaign_key_text =
-        "pdf=" + std::to_string(options.pdf) + "\nprogram " + program + "\n";
+    std::string key_text = "pdf=" + std::to_string(pdf) + "\nprogram " + program + "\n";
     try {
-      campaign_key_text += "campaign.yaml " + sha256_file(a.folder / "campaign.yaml") + "\n";
+      key_text += "campaign.yaml " + sha256_file(a.folder / "campaign.yaml") + "\n";
     } catch (const InputError&) {
-      campaign_key_text += "campaign.yaml unreadable\n";
+      key_text += "campaign.yaml unreadable\n";
     }
-    campaign_key_text += unkeyed;
-    for (const auto& [t, k] : keys.tests) campaign_key_text += t + " " + k + "\n";
-    for (const auto& [g, k] : keys.groups) campaign_key_text += g + " " + k + "\n";
-    const std::string campaign_key = sha256_text(campaign_key_text);
+    key_text += unkeyed;
+    for (const auto& [t, k] : p.tests) key_text += t + " " + k + "\n";
+    for (const auto& [g, k] : p.groups) key_text += g + " " + k + "\n";
+    p.campaign_key = sha256_text(key_text);
 
     // The previous run's state of this campaign.
     std::map<std::string, std::string> stored;
     {
       SiteDb::Statement s(db, "SELECT test, key_sha256 FROM test_cache WHERE campaign = ?");
-      s.bind(1, st.name);
+      s.bind(1, p.name);
       while (s.step()) stored[s.text(0)] = s.text(1);
     }
-    std::string prev_key, prev_results_sha, prev_change, prev_status, prev_message;
+    std::string prev_key, prev_results_sha;
     {
       SiteDb::Statement s(db,
                           "SELECT campaign_key, results_sha256, last_change_utc, status, message "
                           "FROM campaign_runs WHERE name = ? ORDER BY run_id DESC LIMIT 1");
-      s.bind(1, st.name);
+      s.bind(1, p.name);
       if (s.step()) {
         prev_key = s.text(0);
         prev_results_sha = s.text(1);
-        prev_change = s.text(2);
-        prev_status = s.text(3);
-        prev_message = s.text(4);
+        p.prev_change = s.text(2);
+        p.prev_status = s.text(3);
+        p.prev_message = s.text(4);
       }
     }
-    for (const auto& [t, k] : keys.tests) {
+    for (const auto& [t, k] : p.tests) {
       const auto it = stored.find(t);
-      if (it == stored.end() || it->second != k) st.changed.push_back(t);
+      if (it == stored.end() || it->second != k) p.changed.push_back(t);
     }
-    const fs::path results_file = folder / "results.json";
-    bool failed = false;          // no report of this run: no keys kept, never reused
-    bool recomputed_now = false;  // a new report folder is in place, its results recorded
     // Only a campaign whose last report was complete is left as it is: a missing report.pdf or
     // an internal error is tried again in every run.
-    const bool reusable = (prev_status == "ok" || prev_status == "nothing-analysed") &&
-                          !prev_key.empty() && prev_key == campaign_key &&
-                          fs::is_regular_file(results_file, ec) &&
-                          sha256_file(results_file) == prev_results_sha;
-    json previous;
-    if (fs::is_regular_file(results_file, ec)) {
-      try {
-        previous = read_json_file(results_file);
-      } catch (const InputError&) {
-        previous = nullptr;
-      }
-    }
-    if (reusable) {
-      for (const auto& [t, k] : keys.tests) st.cached.push_back(t);
-      st.last_change_utc = prev_change;
-      st.results = previous;
-      st.status = prev_status;
-      st.message = prev_message;
-      st.exit_code = campaign_exit_code(st.status);
-    } else {
-      // Recompute the campaign into a temporary folder that replaces its report folder.
-      std::ostringstream run_log, run_err;
-      ReportOptions ro;
-      ro.pdf = options.pdf;
-      ro.jobs = options.jobs;
-      ro.errors = &run_err;
-      bool written = false;
-      ro.before_writing = [&written] { written = true; };
-      int rc = kExitInputError;
-      bool committed = false;  // a new report folder is in place
-      bool internal = false;   // stopped on an exception other than bad input
-      try {
-        OutputFolder out(folder);
-        rc = run_report(a.folder, out.work(), ro, run_log);
-        if (written) {
-          out.commit();
-          committed = true;
-        }
-      } catch (const InputError& e) {
-        run_err << e.what() << "\n";
-      } catch (const std::exception& e) {
-        run_err << "INTERNAL ERROR: " << e.what() << "\n";
-        internal = true;
-      }
-      st.last_change_utc = utc_now();
-      // The campaign's own errors first (a campaign.yaml that does not parse), then the run's.
-      for (const auto& e : specs[i].errors) st.message += e + "\n";
-      st.message += run_err.str();
-      while (!st.message.empty() && st.message.back() == '\n') st.message.pop_back();
-      if (internal) {
-        // A bug, a figure or template error, a lock or commit that failed: the previous report
-        // folder stays as it was (OutputFolder removes its temporary folder); nothing was
-        // computed, and the campaign is tried again in the next run.
-        st.status = "internal-error";
-        failed = true;
-      } else if (!committed) {
-        st.status = "unreadable";
-        failed = true;
-        // No report shows numbers of a campaign that did not run (removed once the index is
-        // in place).
-        remove_after_index.push_back(folder);
-      } else {
-        for (const auto& [t, k] : keys.tests) st.recomputed.push_back(t);
-        recomputed_now = true;
-        st.status = rc == kExitOk                ? "ok"
-                    : rc == kExitInternalError   ? "internal-error"
-                    : rc == kExitNothingAnalysed ? "nothing-analysed"
-                                                 : "pdf-not-written";
-        st.results = read_json_file(results_file);
-        if (previous.is_object()) {
-          const Comparison c = compare_results(previous, st.results, options.tolerances);
-          for (const auto& ch : c.changes) {
-            if (!ch.flag) continue;
-            st.flags.push_back(ch.key);
-          }
-        }
-      }
-      st.exit_code = campaign_exit_code(st.status);
-    }
-    if (!st.flags.empty() && st.exit_code == kExitOk) st.exit_code = kExitFlagged;
-    if (st.exit_code == kExitInternalError || exit_code == kExitOk) {
-      exit_code = std::max(exit_code, st.exit_code);
-    }
-
-    // The history: this campaign's keys, its state and its values, in one transaction.
-    {
-      SiteDb::Transaction t(db);
-      SiteDb::Statement del(db, "DELETE FROM test_cache WHERE campaign = ?");
-      del.bind(1, st.name);
-      del.step();
-      if (!failed) {
-        SiteDb::Statement put(db, "INSERT INTO test_cache VALUES (?, ?, ?, ?, ?)");
-        for (const auto& [test, key] : keys.tests) {
-          json entry;
-          const json& results = st.results;  // read only: no "tests": null inserted
-          if (const auto tests = results.is_object() ? results.find("tests") : results.end();
-              tests != results.end() && tests->is_object()) {
-            if (const auto it = tests->find(test); it != tests->end()) entry = *it;
-          }
-          put.reset();
-          put.bind(1, st.name).bind(2, test).bind(3, key).bind_blob(4, entry.dump());
-          put.bind(5, run_id);
-          put.step();
-        }
-      }
-      SiteDb::Statement row(db,
-                            "INSERT INTO campaign_runs (run_id, name, path, status, message, "
-                            "last_change_utc, recomputed, cached, flags, campaign_key, "
-                            "results_sha256, results) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
-      row.bind(1, run_id).bind(2, st.name).bind(3, st.path).bind(4, st.status);
-      row.bind(5, st.message).bind(6, st.last_change_utc).bind(7, json(st.recomputed).dump());
-      row.bind(8, json(st.cached).dump()).bind(9, st.flags.dump());
-      row.bind(10, failed ? std::string() : campaign_key);
-      const bool has_results = fs::is_regular_file(results_file, ec);
-      row.bind(11, has_results ? sha256_file(results_file) : std::string());
-      if (recomputed_now && st.results.is_object()) {
-        row.bind_blob(12, st.results.dump());
-      } else {
-        row.bind_null(12);
-      }
-      row.step();
-      SiteDb::Statement val(db, "INSERT INTO trend_values VALUES (?, ?, ?, ?, ?, ?)");
-      for (const auto& v : headline_values(st.results)) {
-        val.reset();
-        val.bind(1, run_id).bind(2, st.name).bind(3, v["key"].get<std::string>());
-        val.bind(4, v["value"].get<double>());
-        if (v.contains("ci95")) {
-          val.bind(5, v["ci95"][0].is_number() ? v["ci95"][0].get<double>() : 0.0);
-          val.bind(6, v["ci95"][1].is_number() ? v["ci95"][1].get<double>() : 0.0);
-        } else {
-          val.bind_null(5).bind_null(6);
-        }
-        val.step();
-      }
-      t.commit();
-    }
-    log << "[" << (i + 1) << "/" << found.size() << "] " << st.path << " (" << st.name
-        << "): " << st.status << ", " << st.recomputed.size() << " recomputed, " << st.cached.size()
-        << " cached";
-    if (!st.flags.empty()) log << ", " << st.flags.size() << " flagged";
-    log << ", " << format_duration(seconds_since(tc)) << std::endl;
-    if (!st.message.empty() && st.status != "ok")
-      err << "nightly: " << st.path << ": " << st.message << "\n";
-    states.push_back(std::move(st));
+    const fs::path results_file = site / "campaigns" / p.name / "results.json";
+    p.reusable = (p.prev_status == "ok" || p.prev_status == "nothing-analysed") &&
+                 !prev_key.empty() && prev_key == p.campaign_key &&
+                 fs::is_regular_file(results_file, ec) &&
+                 sha256_file(results_file) == prev_results_sha;
+    plans.push_back(std::move(p));
   }
+  return plans;
+}
 
+// The campaign's report of the last run, for the regression flags (null when there is none).
+json previous_results(const fs::path& folder) {
+  std::error_code ec;
+  if (!fs::is_regular_file(folder / "results.json", ec)) return nullptr;
+  try {
+    return read_json_file(folder / "results.json");
+  } catch (const InputError&) {
+    return nullptr;
+  }
+}
+
+// The campaign's state after this run, recorded in the history in one transaction: left as it
+// was (`outcome` null), or recomputed (`outcome` says how; its report folder is in place when
+// outcome->written). Folders to remove once the index is in place go to `remove_after_index`.
+CampaignState finish_campaign(const fs::path& site, SiteDb& db, std::int64_t run_id,
+                              const CampaignPlan& p, const ComputeOutcome* outcome,
+                              const json& previous, const CompareOptions& tolerances,
+                              std::vector<fs::path>& remove_after_index) {
+  std::error_code ec;
+  const fs::path folder = site / "campaigns" / p.name;
+  const fs::path results_file = folder / "results.json";
+  CampaignState st;
+  st.path = p.path;
+  st.name = p.name;
+  st.changed = p.changed;
+  bool failed = false;          // no report of this run: no keys kept, never reused
+  bool recomputed_now = false;  // a new report folder is in place, its results recorded
+  if (outcome == nullptr) {
+    for (const auto& [t, k] : p.tests) st.cached.push_back(t);
+    st.last_change_utc = p.prev_change;
+    st.results = previous;
+    st.status = p.prev_status;
+    st.message = p.prev_message;
+  } else {
+    st.last_change_utc = utc_now();
+    // The campaign's own errors first (a campaign.yaml that does not parse), then the run's.
+    for (const auto& e : p.spec_errors) st.message += e + "\n";
+    st.message += outcome->errors;
+    while (!st.message.empty() && st.message.back() == '\n') st.message.pop_back();
+    if (outcome->internal) {
+      // A bug, a figure or template error, a lock or commit that failed: the previous report
+      // folder stays as it was; nothing was computed, and the campaign is tried again in the
+      // next run.
+      st.status = "internal-error";
+      failed = true;
+    } else if (!outcome->written) {
+      st.status = "unreadable";
+      failed = true;
+      // No report shows numbers of a campaign that did not run (removed once the index is in
+      // place).
+      remove_after_index.push_back(folder);
+    } else {
+      for (const auto& [t, k] : p.tests) st.recomputed.push_back(t);
+      recomputed_now = true;
+      const int rc = outcome->exit_code;
+      st.status = rc == kExitOk                ? "ok"
+                  : rc == kExitInternalError   ? "internal-error"
+                  : rc == kExitNothingAnalysed ? "nothing-analysed"
+                                               : "pdf-not-written";
+      st.results = read_json_file(results_file);
+      if (previous.is_object()) {
+        const Comparison c = compare_results(previous, st.results, tolerances);
+        for (const auto& ch : c.changes) {
+          if (ch.flag) st.flags.push_back(ch.key);
+        }
+      }
+    }
+  }
+  st.exit_code = campaign_exit_code(st.status);
+  if (!st.flags.empty() && st.exit_code == kExitOk) st.exit_code = kExitFlagged;
+
+  SiteDb::Transaction t(db);
+  SiteDb::Statement del(db, "DELETE FROM test_cache WHERE campaign = ?");
+  del.bind(1, st.name);
+  del.step();
+  if (!failed) {
+    SiteDb::Statement put(db, "INSERT INTO test_cache VALUES (?, ?, ?, ?, ?)");
+    for (const auto& [test, key] : p.tests) {
+      json entry;
+      const json& results = st.results;  // read only: no "tests": null inserted
+      if (const auto tests = results.is_object() ? results.find("tests") : results.end();
+          tests != results.end() && tests->is_object()) {
+        if (const auto it = tests->find(test); it != tests->end()) entry = *it;
+      }
+      put.reset();
+      put.bind(1, st.name).bind(2, test).bind(3, key).bind_blob(4, entry.dump());
+      put.bind(5, run_id);
+      put.step();
+    }
+  }
+  SiteDb::Statement row(db,
+                        "INSERT INTO campaign_runs (run_id, name, path, status, message, "
+                        "last_change_utc, recomputed, cached, flags, campaign_key, "
+                        "results_sha256, results) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+  row.bind(1, run_id).bind(2, st.name).bind(3, st.path).bind(4, st.status);
+  row.bind(5, st.message).bind(6, st.last_change_utc).bind(7, json(st.recomputed).dump());
+  row.bind(8, json(st.cached).dump()).bind(9, st.flags.dump());
+  row.bind(10, failed ? std::string() : p.campaign_key);
+  const bool has_results = fs::is_regular_file(results_file, ec);
+  row.bind(11, has_results ? sha256_file(results_file) : std::string());
+  if (recomputed_now && st.results.is_object()) {
+    row.bind_blob(12, st.results.dump());
+  } else {
+    row.bind_null(12);
+  }
+  row.step();
+  SiteDb::Statement val(db, "INSERT INTO trend_values VALUES (?, ?, ?, ?, ?, ?)");
+  for (const auto& v : headline_values(st.results)) {
+    val.reset();
+    val.bind(1, run_id).bind(2, st.name).bind(3, v["key"].get<std::string>());
+    val.bind(4, v["value"].get<double>());
+    if (v.contains("ci95")) {
+      val.bind(5, v["ci95"][0].is_number() ? v["ci95"][0].get<double>() : 0.0);
+      val.bind(6, v["ci95"][1].is_number() ? v["ci95"][1].get<double>() : 0.0);
+    } else {
+      val.bind_null(5).bind_null(6);
+    }
+    val.step();
+  }
+  t.commit();
+  return st;
+}
+
+// The run's exit status with one more campaign: an internal error wins, else the first
+// campaign that is not ok sets it.
+int with_campaign(int exit_code, const CampaignState& st) {
+  if (st.exit_code == kExitInternalError || exit_code == kExitOk) {
+    return std::max(exit_code, st.exit_code);
+  }
+  return exit_code;
+}
+
+void log_campaign(std::ostream& log, std::ostream& err, std::size_t i, std::size_t n,
+                  const CampaignState& st, double seconds) {
+  log << "[" << (i + 1) << "/" << n << "] " << st.path << " (" << st.name << "): " << st.status
+      << ", " << st.recomputed.size() << " recomputed, " << st.cached.size() << " cached";
+  if (!st.flags.empty()) log << ", " << st.flags.size() << " flagged";
+  log << ", " << format_duration(seconds) << std::endl;
+  if (!st.message.empty() && st.status != "ok") {
+    err << "nightly: " << st.path << ": " << st.message << "\n";
+  }
+}
+
+// The end of a run: the index page and nightly.json, the report folders that leave the site,
+// the run marked done. Returns the exit status (`exit_code`, raised when the index's PDF was
+// not written).
+int write_site_index(const std::string& root_label, const fs::path& site, SiteDb& db,
+                     std::int64_t run_id, const std::string& started, double runtime, bool pdf,
+                     const std::vector<CampaignState>& states,
+                     std::vector<fs::path> remove_after_index, int exit_code, std::ostream& log,
+                     std::ostream& err) {
+  std::error_code ec;
   // Report folders of campaigns no longer in the archive leave the site (their history stays),
   // once the index that no longer links them is in place.
   std::set<std::string> current;
@@ -503,7 +490,6 @@ int nightly_campaigns(const fs::path& root, const fs::path& site, const NightlyO
 
   // nightly.json and the index page, written into a staging folder in the site and renamed
   // into place one by one, nightly.json last: a nightly.json of this run marks it complete.
-  const double runtime = seconds_since(t0);
   json campaigns = json::object();
   json rows = json::array();
   for (const auto& s : states) {
@@ -558,16 +544,15 @@ int nightly_campaigns(const fs::path& root, const fs::path& site, const NightlyO
   json ctx = {{"generated_utc", utc_timestamp()},
               {"generated_iso", utc_timestamp_iso()},
               {"version", CHATTERLAB_VERSION},
-              {"root", root.filename().empty() ? root.parent_path().filename().string()
-                                               : root.filename().string()},
+              {"root", root_label},
               {"campaign_count", states.size()},
               {"runtime", format_duration(runtime)},
               {"campaigns", rows}};
   std::ostringstream doc_log;
   DocumentOptions dopt;
-  dopt.pdf = options.pdf;
+  dopt.pdf = pdf;
   const bool pdf_written = write_documents("nightly.html", ctx, stage, dopt, "nightly", doc_log);
-  if (options.pdf && !pdf_written) {
+  if (pdf && !pdf_written) {
     err << doc_log.str();
     exit_code = std::max(exit_code, static_cast<int>(kExitInputError));
   }
@@ -588,10 +573,339 @@ int nightly_campaigns(const fs::path& root, const fs::path& site, const NightlyO
     s.step();
     t.commit();
   }
-  log << "nightly: " << states.size() << " campaigns in " << format_duration(runtime) << "; wrote "
-      << (site / "index.html").string() << ", nightly.json\n";
+  log << "nightly: " << states.size() << " " << (states.size() == 1 ? "campaign" : "campaigns")
+      << " in " << format_duration(runtime) << "; wrote " << (site / "index.html").string()
+      << ", nightly.json\n";
   return exit_code;
 }
 
+std::string root_label(const fs::path& root) {
+  return root.filename().empty() ? root.parent_path().filename().string()
+                                 : root.filename().string();
+}
+
+// Records a run that an exception ended as failed (the exception goes on to the caller).
+void mark_failed(SiteDb& db, std::int64_t run_id) {
+  try {
+    SiteDb::Transaction t(db);
+    SiteDb::Statement s(db, "UPDATE runs SET finished_utc = ?, status = 'failed' WHERE id = ?");
+    s.bind(1, utc_now()).bind(2, run_id);
+    s.step();
+    t.commit();
+  } catch (const std::exception&) {  // the database itself failed: the next run marks it
+  }
+}
+
+// The runs of the site still on Slurm: submitted, their reduce job still in the queue.
+std::vector<std::pair<std::int64_t, std::string>> active_slurm_runs(SiteDb& db) {
+  std::vector<std::pair<std::int64_t, std::string>> out;
+  SiteDb::Statement s(db, "SELECT id, options FROM runs WHERE status = 'submitted'");
+  while (s.step()) {
+    std::string reduce;
+    try {
+      reduce = json::parse(s.text(1)).at("slurm").at("reduce_job").get<std::string>();
+    } catch (const std::exception&) {
+      continue;
+    }
+    if (slurm_job_active(reduce)) out.emplace_back(s.integer(0), reduce);
+  }
+  return out;
+}
+
+InputError slurm_run_pending(const fs::path& site, std::int64_t run, const std::string& job) {
+  return InputError(site.string() + ": run " + std::to_string(run) +
+                    " of this site is still on Slurm (its reduce job " + job +
+                    " has not finished); --wait waits for it");
+}
+
+// The previous runs that did not end: 'running' ones were killed; 'submitted' ones whose
+// reduce job left the queue without reducing were cancelled or failed. A submitted run still
+// queued refuses this one.
+void close_unfinished_runs(const fs::path& site, SiteDb& db) {
+  const auto active = active_slurm_runs(db);
+  if (!active.empty()) throw slurm_run_pending(site, active[0].first, active[0].second);
+  SiteDb::Transaction t(db);
+  db.exec("UPDATE runs SET status = 'interrupted' WHERE status IN ('running', 'submitted')");
+  t.commit();
+}
+
+// Before the lock: a run on Slurm of this site makes this one wait (--wait) or refuses it.
+void wait_for_slurm_runs(const fs::path& site, bool wait) {
+  std::error_code ec;
+  if (!fs::is_regular_file(site / "history.sqlite", ec)) return;
+  while (true) {
+    std::vector<std::pair<std::int64_t, std::string>> active;
+    {
+      SiteDb db(site / "history.sqlite");
+      active = active_slurm_runs(db);
+    }
+    if (active.empty()) return;
+    if (!wait) throw slurm_run_pending(site, active[0].first, active[0].second);
+    wait_for_slurm_job(active[0].second);
+  }
+}
+
+// The run of a site that the reduce job of run `run` finishes: its exit status, from the
+// reduce.json it wrote (3 when it wrote none: see its log).
+int slurm_run_exit_code(const fs::path& run_dir, std::ostream& err) {
+  std::error_code ec;
+  if (!fs::is_regular_file(run_dir / "reduce.json", ec)) {
+    err << "nightly: the reduce job wrote no " << (run_dir / "reduce.json").string() << "; see "
+        << (run_dir / "logs" / "reduce.out").string() << "\n";
+    return kExitInternalError;
+  }
+  return read_json_file(run_dir / "reduce.json").at("exit_code").get<int>();
+}
+
+// Puts a report folder a Slurm task staged into the site: its files go into an OutputFolder's
+// temporary folder, which is exchanged with the campaign's report folder in one rename.
+void install_staged_report(const fs::path& staged, const fs::path& dest) {
+  OutputFolder out(dest);
+  for (const auto& e : fs::directory_iterator(staged)) {
+    if (e.path().filename() == kManifestName) continue;
+    fs::rename(e.path(), out.work() / e.path().filename());
+  }
+  out.commit();
+  fs::remove_all(staged);
+}
+
 }  // namespace
+
+int run_nightly(const fs::path& root, const fs::path& site, const NightlyOptions& options,
+                std::ostream& log) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::ostream& err = options.errors ? *options.errors : log;
+  std::error_code ec;
+  if (!fs::is_directory(root, ec)) {
+    throw InputError(root.string() + ": no such folder (the archive root)");
+  }
+  check_site(site, root);
+  wait_for_slurm_runs(site, options.wait);
+  // On Slurm, each task reports with the worker threads it was given (--cpus-per-task).
+  const int jobs = options.slurm.enabled ? std::max(options.jobs, 1) : options.jobs;
+  SlurmJobs submitted;
+  fs::path run_dir;
+  {
+    SiteLock lock(site, options.wait);
+    SiteDb db(site / "history.sqlite");
+    fs::create_directories(site / "campaigns");
+
+    const std::vector<ArchiveCampaign> found = find_campaigns(root, site);
+    if (found.empty()) {
+      // An unmounted share is an empty folder: its report folders must not leave the site.
+      SiteDb::Statement s(db,
+                          "SELECT r.id, COUNT(c.name) FROM runs r JOIN campaign_runs c ON "
+                          "c.run_id = r.id WHERE r.id = (SELECT MAX(id) FROM runs WHERE status = "
+                          "'done') GROUP BY r.id");
+      if (s.step() && s.integer(1) > 0) {
+        throw InputError(root.string() +
+                         ": no campaign found under the archive root, but the site's last run (" +
+                         std::to_string(s.integer(0)) + ") had " + std::to_string(s.integer(1)) +
+                         ": is the archive mounted? Nothing was changed; to start over with an "
+                         "empty archive, give a new --out");
+      }
+    }
+    close_unfinished_runs(site, db);
+
+    const std::string program = program_identity() + " jobs=" + std::to_string(jobs);
+    const std::string started = utc_now();
+    std::int64_t run_id = 0;
+    {
+      SiteDb::Transaction t(db);
+      SiteDb::Statement s(db,
+                          "INSERT INTO runs (started_utc, finished_utc, version, options, "
+                          "runtime_s, status) VALUES (?, '', ?, ?, 0, 'running')");
+      s.bind(1, started).bind(2, program);
+      s.bind(3,
+             json({{"pdf", options.pdf}, {"jobs", jobs}, {"slurm", options.slurm.enabled}}).dump());
+      s.step();
+      run_id = db.last_insert_id();
+      t.commit();
+    }
+
+    try {
+      const std::vector<CampaignPlan> plans =
+          plan_campaigns(site, db, found, program, options.pdf, run_id);
+      log << "nightly: " << plans.size() << " " << (plans.size() == 1 ? "campaign" : "campaigns")
+          << " under " << root.string() << "\n";
+      if (!options.slurm.enabled) {
+        std::vector<CampaignState> states;
+        std::vector<fs::path> remove_after_index;
+        int exit_code = kExitOk;
+        for (std::size_t i = 0; i < plans.size(); ++i) {
+          const auto tc = std::chrono::steady_clock::now();
+          const CampaignPlan& p = plans[i];
+          const fs::path folder = site / "campaigns" / p.name;
+          const json previous = previous_results(folder);
+          CampaignState st;
+          if (p.reusable) {
+            st = finish_campaign(site, db, run_id, p, nullptr, previous, options.tolerances,
+                                 remove_after_index);
+          } else {
+            // Recomputed into a temporary folder that replaces its report folder.
+            const ComputeOutcome o = compute_campaign(p.folder, folder, options.pdf, jobs);
+            st = finish_campaign(site, db, run_id, p, &o, previous, options.tolerances,
+                                 remove_after_index);
+          }
+          exit_code = with_campaign(exit_code, st);
+          log_campaign(log, err, i, plans.size(), st, seconds_since(tc));
+          states.push_back(std::move(st));
+        }
+        return write_site_index(root_label(root), site, db, run_id, started, seconds_since(t0),
+                                options.pdf, states, remove_after_index, exit_code, log, err);
+      }
+
+      // --slurm: the plan and the job scripts into the site, a task per campaign to recompute.
+      run_dir = slurm_run_dir(fs::absolute(site), run_id);
+      fs::remove_all(run_dir, ec);
+      fs::create_directories(run_dir);
+      json tasks = json::array();
+      json campaigns = json::array();
+      for (const auto& p : plans) {
+        campaigns.push_back(p.to_json());
+        if (p.reusable) continue;
+        tasks.push_back(
+            {{"name", p.name}, {"path", p.path}, {"folder", fs::absolute(p.folder).string()}});
+      }
+      if (!options.tolerances_file.empty()) {
+        fs::copy_file(options.tolerances_file, run_dir / "tolerances.yaml",
+                      fs::copy_options::overwrite_existing);
+      }
+      const json plan = {
+          {"format", "chatterlab-nightly-plan/1"},
+          {"run", run_id},
+          {"root", root_label(root)},
+          {"started_utc", started},
+          {"started_epoch_s",
+           std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
+                   .count() -
+               seconds_since(t0)},
+          {"pdf", options.pdf},
+          {"jobs", jobs},
+          {"tasks", tasks},
+          {"campaigns", campaigns}};
+      write_file_checked(run_dir / "plan.json", plan.dump(1) + "\n");
+      const int task_count = static_cast<int>(tasks.size());
+      write_slurm_scripts(fs::absolute(site), run_dir, run_id, task_count, jobs, options.slurm,
+                          fs::read_symlink("/proc/self/exe"));
+      submitted = submit_slurm_scripts(run_dir, task_count);
+      {
+        SiteDb::Transaction t(db);
+        SiteDb::Statement s(db, "UPDATE runs SET status = 'submitted', options = ? WHERE id = ?");
+        s.bind(1, json({{"pdf", options.pdf},
+                        {"jobs", jobs},
+                        {"slurm",
+                         {{"array_job", submitted.array_id},
+                          {"reduce_job", submitted.reduce_id},
+                          {"tasks", task_count}}}})
+                      .dump());
+        s.bind(2, run_id);
+        s.step();
+        t.commit();
+      }
+      log << "nightly: run " << run_id << " submitted to Slurm: "
+          << (task_count > 0
+                  ? "array job " + submitted.array_id + " (" + std::to_string(task_count) + " " +
+                        (task_count == 1 ? "task" : "tasks") + "), "
+                  : std::string("no task (nothing changed), "))
+          << "reduce job " << submitted.reduce_id << "; job scripts in " << run_dir.string()
+          << "\n";
+    } catch (...) {
+      mark_failed(db, run_id);
+      throw;
+    }
+  }  // the lock is released: the reduce job takes it
+  if (!options.slurm.wait) return kExitOk;
+  wait_for_slurm_job(submitted.reduce_id);
+  return slurm_run_exit_code(run_dir, err);
+}
+
+int run_nightly_reduce(const fs::path& site, std::int64_t run, const NightlyOptions& options,
+                       std::ostream& log) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::ostream& err = options.errors ? *options.errors : log;
+  const fs::path run_dir = slurm_run_dir(site, run);
+  int exit_code = kExitOk;
+  {
+    SiteLock lock(site, /*wait=*/true);
+    SiteDb db(site / "history.sqlite");
+    {
+      SiteDb::Statement s(db, "SELECT status FROM runs WHERE id = ?");
+      s.bind(1, run);
+      const std::string status = s.step() ? s.text(0) : std::string("absent");
+      if (status != "submitted") {
+        throw InputError(site.string() + ": run " + std::to_string(run) +
+                         " is not waiting for its reduce job (status " + status +
+                         "); nothing was changed");
+      }
+    }
+    try {
+      const json plan = read_json_file(run_dir / "plan.json");
+      const bool pdf = plan.at("pdf").get<bool>();
+      std::error_code ec;
+      const CompareOptions tolerances = fs::is_regular_file(run_dir / "tolerances.yaml", ec)
+                                            ? load_tolerances(run_dir / "tolerances.yaml")
+                                            : options.tolerances;
+      std::map<std::string, int> task_of;
+      for (std::size_t i = 0; i < plan.at("tasks").size(); ++i) {
+        task_of[plan["tasks"][i].at("name").get<std::string>()] = static_cast<int>(i);
+      }
+      std::vector<CampaignState> states;
+      std::vector<fs::path> remove_after_index;
+      const json& campaigns = plan.at("campaigns");
+      for (std::size_t i = 0; i < campaigns.size(); ++i) {
+        const auto tc = std::chrono::steady_clock::now();
+        const CampaignPlan p = CampaignPlan::from_json(campaigns[i]);
+        const fs::path folder = site / "campaigns" / p.name;
+        const json previous = previous_results(folder);
+        CampaignState st;
+        if (p.reusable) {
+          st = finish_campaign(site, db, run, p, nullptr, previous, tolerances, remove_after_index);
+        } else {
+          const fs::path staged = run_dir / "out" / p.name;
+          const fs::path outcome_file = run_dir / "out" / (p.name + ".json");
+          ComputeOutcome o;
+          if (fs::is_regular_file(outcome_file, ec)) {
+            o = ComputeOutcome::from_json(read_json_file(outcome_file));
+          } else {
+            o.internal = true;
+            o.exit_code = kExitInternalError;
+            o.errors = "the Slurm task of this campaign did not finish (task " +
+                       std::to_string(task_of[p.name]) + "; see " + (run_dir / "logs").string() +
+                       "/task-" + std::to_string(task_of[p.name]) + ".out)";
+          }
+          if (o.written) {
+            try {
+              install_staged_report(staged, folder);
+            } catch (const std::exception& e) {
+              o.written = false;
+              o.internal = true;
+              o.errors +=
+                  std::string("the staged report could not be put into the site: ") + e.what();
+            }
+          }
+          st = finish_campaign(site, db, run, p, &o, previous, tolerances, remove_after_index);
+        }
+        exit_code = with_campaign(exit_code, st);
+        log_campaign(log, err, i, campaigns.size(), st, seconds_since(tc));
+        states.push_back(std::move(st));
+      }
+      const double runtime =
+          std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
+              .count() -
+          plan.at("started_epoch_s").get<double>();
+      exit_code = write_site_index(plan.at("root").get<std::string>(), site, db, run,
+                                   plan.at("started_utc").get<std::string>(),
+                                   std::max(runtime, seconds_since(t0)), pdf, states,
+                                   remove_after_index, exit_code, log, err);
+      fs::remove_all(run_dir / "out", ec);
+    } catch (...) {
+      mark_failed(db, run);
+      throw;
+    }
+  }
+  write_file_checked(run_dir / "reduce.json", json({{"exit_code", exit_code}}).dump() + "\n");
+  return exit_code;
+}
+
 }  // namespace chatterlab::app

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "app/nightly/compare.h"
+#include "app/nightly/slurm.h"
 
 namespace chatterlab::app {
 
@@ -26,7 +27,10 @@ struct NightlyOptions {
   bool wait = false;  // another run holds the site: wait for it instead of refusing
   // Regression flags: each recomputed campaign's results.json against its previous one.
   CompareOptions tolerances;
-  std::ostream* errors = nullptr;  // where a campaign's errors go (nullptr: the log)
+  std::filesystem::path tolerances_file;  // where `tolerances` came from (a --slurm run copies
+                                          // it for its reduce job)
+  SlurmOptions slurm;                     // --slurm and its options
+  std::ostream* errors = nullptr;         // where a campaign's errors go (nullptr: the log)
 };
 
 // A campaign found under the archive root.
@@ -44,7 +48,19 @@ std::vector<ArchiveCampaign> find_campaigns(const std::filesystem::path& root,
 // regression was flagged; 1 when a campaign could not be read or a flag was raised; 3 when a
 // campaign stopped on an internal error.
 // @throws InputError when the root or the site is refused (nothing is written then)
+// With options.slurm.enabled the run is planned under the site's lock, its campaigns to
+// recompute submitted as a job array with a reduce job (app/nightly/slurm.h), and the call
+// returns 0 once they are queued; with options.slurm.wait it waits for the reduce job and
+// returns the run's exit status as above.
 int run_nightly(const std::filesystem::path& root, const std::filesystem::path& site,
                 const NightlyOptions& options, std::ostream& log);
+
+// `chatterlab nightly-reduce <site> --run N`, the reduce job of a --slurm run: waits for the
+// site's lock, puts the reports the tasks staged into the site, writes the history, the index
+// and nightly.json as a local run does, and <site>/slurm/run-N/reduce.json with the exit
+// status (returned as well). A task that did not finish makes its campaign an internal error
+// that keeps its previous report. @throws InputError when run N is not waiting for its reduce
+int run_nightly_reduce(const std::filesystem::path& site, std::int64_t run,
+                       const NightlyOptions& options, std::ostream& log);
 
 }  // namespace chatterlab::app

@@ -47,6 +47,29 @@ TEST(CommandLine, OptionsOfOtherCommandsAndUnknownOptionsAreErrors) {
   EXPECT_EQ(parse({}).error, "no command");
 }
 
+TEST(CommandLine, NightlyOnSlurmAndItsJobCommands) {
+  const auto n = parse({"nightly", "archive", "--out", "site", "--slurm", "--partition", "batch",
+                        "--time", "1:00:00", "--mem", "4G", "--slurm-wait", "--jobs", "2"});
+  EXPECT_EQ(n.error, "");
+  EXPECT_TRUE(n.line.slurm);
+  EXPECT_TRUE(n.line.slurm_wait);
+  EXPECT_EQ(n.line.partition, "batch");
+  EXPECT_EQ(n.line.time, "1:00:00");
+  EXPECT_EQ(n.line.mem, "4G");
+  const auto t = parse({"nightly-task", "site", "--run", "12", "--task", "0"});
+  EXPECT_EQ(t.error, "");
+  EXPECT_EQ(t.line.run, 12);
+  EXPECT_EQ(t.line.task, 0);
+  EXPECT_EQ(parse({"nightly-task", "site", "--run", "0", "--task", "0"}).error,
+            "--run takes a whole number >= 1, got '0'");
+  EXPECT_EQ(parse({"nightly-task", "site", "--run", "3", "--task", "x"}).error,
+            "--task takes a whole number >= 0, got 'x'");
+  EXPECT_EQ(parse({"nightly-reduce", "site", "--run", "3", "--task", "1"}).error,
+            "option '--task' does not apply to nightly-reduce");
+  EXPECT_EQ(parse({"report", "camp", "--out", "r", "--slurm"}).error,
+            "option '--slurm' does not apply to report");
+}
+
 TEST(CommandLine, QuietForTheCommandsThatPrintProgress) {
   for (const char* c : {"report", "simulate", "lobes", "synth"}) {
     const auto r = parse({c, "x", "--out", "o", "--quiet"});

@@ -22,10 +22,10 @@
 #include "app/nightly/nightly.h"
 #include "app/nightly/site_db.h"
 #include "app/report/document.h"
-#include "app/synth/synth.h"
 #include "render/temp_dir.h"
 #include "tests/app/cli/run_binary.h"
-#include "tests/support/synth_spec.h"
+#include "tests/app/nightly/nightly_archive.h"
+#include "tests/support/expect_input_error.h"
 
 namespace chatterlab::app {
 namespace {
@@ -33,31 +33,8 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-// Writes the archive: a/ (tap, dyno-slot and one short cut), b/ (tap and dyno-slot, another
-// seed) and broken/ (a campaign.yaml that is not YAML).
 void write_archive(const fs::path& root, const fs::path& scratch) {
-  for (const std::string name : {"a", "b"}) {
-    chatterlab::testing::SynthSpecText st;
-    st.name = "nightly-" + name;
-    st.seed = name == "a" ? 3 : 4;
-    st.tap_sample_rate_hz = 12800;
-    st.tap_hit_spacing_s = 0.5;
-    st.dyno_duration_s = 0.5;
-    st.cut_air_revolutions = 10;
-    if (name == "a") {
-      st.cut_tests =
-          "    - {name: constant, axial_depth_mm: 1.0, duration_s: 0.1, offset_angle_deg: 147.0}\n";
-    }
-    const fs::path spec = scratch / (name + ".synth.yaml");
-    std::ofstream(spec) << st.text();
-    synthesize_campaign(spec, root / name);
-    if (name == "a") {
-      std::ofstream(root / name / "campaign.yaml", std::ios::app)
-          << "estimation: {window_s: 0.02, max_passes: 1, repeat_runs: 0, settle_revolutions: 5}\n";
-    }
-  }
-  fs::create_directories(root / "broken");
-  std::ofstream(root / "broken" / "campaign.yaml") << "name: [unclosed\n";
+  chatterlab::testing::write_nightly_archive(root, scratch);
 }
 
 json read_json(const fs::path& p) {
@@ -618,6 +595,40 @@ TEST_F(Nightly, ACampaignNamedDotOrDotDotGetsAPlainFolder) {
   EXPECT_EQ(run(root, site), 1);
   EXPECT_TRUE(fs::exists(site / "history.sqlite"));
   EXPECT_TRUE(fs::exists(site / "campaigns" / "campaign-." / "results.json"));
+}
+
+// A --slurm run whose reduce job left the queue without reducing (cancelled, failed) is marked
+// interrupted by the next run, and its reduce job, were it to start after all, changes nothing.
+TEST_F(Nightly, ASlurmRunWhoseReduceJobIsGoneIsInterruptedAndItsReduceRefused) {
+  const fs::path root = dir_->path() / "gone-reduce";
+  write_empty_campaign(root / "solo", "solo");
+  const fs::path site = dir_->path() / "site-gone-reduce";
+  EXPECT_EQ(run(root, site), 1);  // nothing analysed
+  {
+    SiteDb db(site / "history.sqlite");
+    db.exec(
+        "UPDATE runs SET status = 'submitted', options = "
+        "'{\"slurm\": {\"reduce_job\": \"999999999\"}}' WHERE id = 1");
+  }
+  EXPECT_EQ(run(root, site), 1);
+  {
+    SiteDb db(site / "history.sqlite");
+    SiteDb::Statement s(db, "SELECT id, status FROM runs ORDER BY id");
+    ASSERT_TRUE(s.step());
+    EXPECT_EQ(s.text(1), "interrupted");
+    ASSERT_TRUE(s.step());
+    EXPECT_EQ(s.text(1), "done");
+  }
+  std::ostringstream log;
+  chatterlab::testing::expect_input_error(
+      [&] { run_nightly_reduce(site, 1, quiet_options(), log); },
+      site.string() +
+          ": run 1 is not waiting for its reduce job (status interrupted); nothing was changed");
+  chatterlab::testing::expect_input_error(
+      [&] { run_nightly_reduce(site, 7, quiet_options(), log); },
+      site.string() +
+          ": run 7 is not waiting for its reduce job (status absent); nothing was "
+          "changed");
 }
 
 }  // namespace
