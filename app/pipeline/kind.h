@@ -135,6 +135,16 @@ class TestKind {
   // Comparison with truth.yaml (a synthetic campaign's known values).
   virtual void compare_truth(const TruthInput&, const TestOutcome&, TruthComparison&) const {}
 
+  // The per-test cache of nightly runs (docs/nightly.md#the-per-test-cache): a kind whose step
+  // result can be written as bytes (app/core/archive.h) and read back is restored instead of
+  // run when its cache key is unchanged. save() is called for a step that succeeded; restore()
+  // sets out.result from what save() wrote (the pipeline restores the status, warnings and
+  // runtime, then calls publish() as after a run). restore() throws InputError on damaged bytes
+  // (the test is then run).
+  virtual bool cacheable() const { return false; }
+  virtual std::string save(const TestOutcome&) const { return {}; }
+  virtual void restore(const TestSpec&, const std::string& /*bytes*/, TestOutcome&) const {}
+
   // `chatterlab synth` (app/synth/synth.h, docs/format/synth-spec.md): the top-level section of
   // a synth spec this kind writes tests from (`tap`); empty when the kind has no synth writer.
   virtual std::string synth_section() const { return ""; }
@@ -175,6 +185,10 @@ class GroupProduct {
                                         const FigureSet&) const {
     return nullptr;
   }
+  // As TestKind's (the per-test cache); out.members is restored by the pipeline.
+  virtual bool cacheable() const { return false; }
+  virtual std::string save(const GroupOutcome&) const { return {}; }
+  virtual void restore(const std::string& /*bytes*/, GroupOutcome&) const {}
   // truth.yaml `tests:` entry `key` (a group is matched by its members' common prefix).
   virtual void compare_truth(const TruthInput&, const std::string& /*key*/, const GroupOutcome&,
                              TruthComparison&) const {}

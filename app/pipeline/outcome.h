@@ -27,8 +27,9 @@ struct Outcome {
   StepSummary status;  // not run, ok, or failed with its message
   Failure failure = Failure::kNone;
   std::vector<std::string> warnings;
-  double runtime_s = 0;
+  double runtime_s = 0;                // of the run that computed it (a restored one's too)
   std::unique_ptr<KindResult> result;  // the kind's result; read only when status is ok
+  bool restored = false;               // read back from the per-test cache, not computed
 
   template <class T>
   const T* result_as() const {

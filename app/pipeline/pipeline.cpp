@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "app/core/archive.h"
 #include "app/core/hashing.h"
 #include "app/core/input_boundary.h"
 #include "app/core/parallel.h"
@@ -127,6 +128,63 @@ void run_node(const Node& n, Outcome& out, CampaignResults& r, Run&& run, Publis
   if (out.status.ok()) guarded(out, publish);
   record_unprovided(n, out.status, r.values);
   out.runtime_s = seconds_since(t0);
+}
+
+// What the per-test cache keeps of a node besides its kind's bytes.
+struct CachedNode {
+  StepSummary status;
+  std::vector<std::string> warnings;
+  double runtime_s = 0;
+  std::vector<std::string> members;  // a group's
+  std::string bytes;                 // the kind's
+};
+template <class Ar>
+void fields(Ar& ar, CachedNode& c) {
+  ar(c.status, c.warnings, c.runtime_s, c.members, c.bytes);
+}
+
+// Runs a node, or restores it when the cache holds it (the kind's result read back, then
+// published as after a run); a node computed now that succeeded is kept in the cache.
+template <class Kind, class Out, class Run, class Restore>
+void run_or_restore(const Node& n, const Kind& kind, Out& out, CampaignResults& r, Run&& run,
+                    Restore&& restore) {
+  ResultCache* cache = r.options.cache;
+  const bool cacheable = cache != nullptr && kind.cacheable();
+  const auto publish = [&] { kind.publish(out, r.values); };
+  if (cacheable) {
+    if (const std::optional<std::string> stored = cache->find(n.name)) {
+      try {
+        CachedNode c;
+        from_bytes(*stored, c);
+        restore(c.bytes);
+        out.status = c.status;
+        out.warnings = c.warnings;
+        out.runtime_s = c.runtime_s;
+        if constexpr (std::is_same_v<Out, GroupOutcome>) out.members = c.members;
+        out.restored = true;
+      } catch (const InputError&) {  // damaged: computed instead
+        out.result.reset();
+      }
+      if (out.restored) {
+        guarded(out, publish);
+        record_unprovided(n, out.status, r.values);
+        return;
+      }
+    }
+  }
+  run_node(n, out, r, run, publish);
+  if (cacheable && out.status.ok()) {
+    CachedNode c;
+    c.status = out.status;
+    c.warnings = out.warnings;
+    c.runtime_s = out.runtime_s;
+    if constexpr (std::is_same_v<Out, GroupOutcome>) c.members = out.members;
+    try {
+      c.bytes = kind.save(out);
+      cache->keep(n.name, to_bytes(c));
+    } catch (const std::exception&) {  // not kept: computed again next time
+    }
+  }
 }
 
 void add_inputs(CampaignResults& r) {
@@ -274,15 +332,17 @@ CampaignResults run_campaign(CampaignSpec campaign, const PipelineOptions& optio
       if (n.group) {
         GroupOutcome& out = *std::find_if(r.groups.begin(), r.groups.end(),
                                           [&](const auto& g) { return g.name == n.group->name(); });
-        run_node(
-            n, out, r, [&] { n.group->run(r.values, ctx, out); },
-            [&] { n.group->publish(out, r.values); });
+        run_or_restore(
+            n, *n.group, out, r, [&] { n.group->run(r.values, ctx, out); },
+            [&](const std::string& bytes) { n.group->restore(bytes, out); });
         report_finished(n.name, n.group != nullptr, out);
       } else {
         TestOutcome& out = r.tests[n.test];
-        run_node(
-            n, out, r, [&] { n.kind->run(r.campaign.tests[n.test], r.values, ctx, out); },
-            [&] { n.kind->publish(out, r.values); });
+        run_or_restore(
+            n, *n.kind, out, r, [&] { n.kind->run(r.campaign.tests[n.test], r.values, ctx, out); },
+            [&](const std::string& bytes) {
+              n.kind->restore(r.campaign.tests[n.test], bytes, out);
+            });
         report_finished(n.name, n.group != nullptr, out);
       }
     });

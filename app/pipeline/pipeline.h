@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,18 @@ struct NodeFinished {
   std::size_t total = 0;  // every test of the campaign and every group that applies
 };
 
+// The per-test cache of a nightly run (docs/nightly.md#the-per-test-cache), seen from the
+// pipeline: the bytes kept for a test or group whose cache key has not changed, and the bytes
+// of those computed now. Implemented by app/nightly.
+class ResultCache {
+ public:
+  virtual ~ResultCache() = default;
+  // The bytes kept for node `name` (a test id or "group:<name>") when its key is unchanged.
+  virtual std::optional<std::string> find(const std::string& name) const = 0;
+  // A node computed in this run that succeeded. Called from worker threads, concurrently.
+  virtual void keep(const std::string& name, std::string bytes) = 0;
+};
+
 struct PipelineOptions {
   int jobs = 0;  // worker threads; 0: one per hardware thread
   // Called once per test or group as it finishes (progress lines), from the worker thread that
@@ -39,6 +52,9 @@ struct PipelineOptions {
   // Calls never overlap (the pipeline serializes them), so the callback needs no lock of its
   // own; `done` counts up by one per call. An exception it throws is ignored.
   std::function<void(const NodeFinished&)> on_finished;
+  // Tests and groups of cacheable kinds are restored from it when it holds them and kept in
+  // it when they are computed (nullptr: every node runs).
+  ResultCache* cache = nullptr;
 };
 
 struct InputFile {

@@ -203,6 +203,7 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
   }
   PipelineOptions popt;
   popt.jobs = options.jobs;
+  popt.cache = options.cache;
   if (options.progress) {
     log << "report: " << spec.tests.size() << " tests found in " << results_campaign_name(spec)
         << std::endl;
@@ -213,6 +214,7 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
   }
   CampaignResults r = run_campaign(std::move(spec), popt, kinds);
   r.options.on_finished = nullptr;  // `log` is not for later users of r
+  r.options.cache = nullptr;        // nor is the cache
   const TruthComparison truth = compare_with_truth(r);
 
   if (options.before_writing) options.before_writing();

@@ -26,6 +26,8 @@ struct ReportOptions {
   // (the CLI puts `out`, a temporary folder, in the place of --out only when it was called:
   // app/cli/output_folder.h).
   std::function<void()> before_writing;
+  // The per-test cache of a nightly run (app/pipeline/pipeline.h; nullptr: every test runs).
+  ResultCache* cache = nullptr;
 };
 
 // The campaign folder's own name ("demo" for /any/where/demo/): a report shows no path of the

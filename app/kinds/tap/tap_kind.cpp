@@ -9,6 +9,7 @@
 #include "analysis/common/constants.h"
 #include "analysis/frf/hits.h"
 #include "analysis/frf/mode.h"
+#include "app/core/archive_analysis.h"
 #include "app/core/format.h"
 #include "app/core/input_boundary.h"
 #include "app/core/yaml_reader.h"
@@ -321,6 +322,30 @@ std::string TapKind::describe_value(const std::string& name) const {
 void TapKind::run(const TestSpec& t, const CampaignValues&, const RunContext&,
                   TestOutcome& out) const {
   out.adopt(std::make_unique<TapOutcome>(run_tap_test(t, options_)));
+}
+
+template <class Ar>
+void fields(Ar& ar, TapHitInfo& h) {
+  LAYOUT_GUARD(TapHitInfo, 56);
+  ar(h.time_s, h.peak_N, h.accepted, h.reason);
+}
+
+template <class Ar>
+void fields(Ar& ar, TapOutcome& o) {
+  LAYOUT_GUARD(TapOutcome, 448);
+  ar(o.summary, o.from_file, o.frf_file, o.frf_columns, o.has_coherence, o.warnings, o.hits,
+     o.hits_used, o.f_hz, o.h1, o.h2, o.coherence, o.df_hz, o.exp_window_tau_s, o.fit_ok,
+     o.fit_message, o.modes, o.quality, o.fit_nrmse_pct, o.band_lo_hz, o.band_hi_hz, o.fitted);
+}
+
+std::string TapKind::save(const TestOutcome& out) const {
+  return to_bytes(out.result_of<TapOutcome>());
+}
+
+void TapKind::restore(const TestSpec&, const std::string& bytes, TestOutcome& out) const {
+  auto r = std::make_unique<TapOutcome>();
+  from_bytes(bytes, *r);
+  out.result = std::move(r);
 }
 
 void TapKind::publish(const TestOutcome& out, CampaignValues& values) const {

@@ -34,6 +34,9 @@ class TapKind : public TestKind {
   void run(const TestSpec& t, const CampaignValues& in, const RunContext& ctx,
            TestOutcome& out) const override;
   void publish(const TestOutcome& out, CampaignValues& values) const override;
+  bool cacheable() const override { return true; }
+  std::string save(const TestOutcome& out) const override;
+  void restore(const TestSpec& t, const std::string& bytes, TestOutcome& out) const override;
   nlohmann::json results(const TestOutcome& out) const override;
   // <test>/frf.csv and frf.uff: the measured and fitted FRF (docs/format/results-json.md, "Files").
   void write_files(const TestOutcome& out, const std::filesystem::path& report_dir) const override;
