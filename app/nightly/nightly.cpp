@@ -19,6 +19,7 @@
 #include "app/nightly/cache_keys.h"
 #include "app/nightly/compute.h"
 #include "app/nightly/site_db.h"
+#include "app/nightly/trends.h"
 #include "app/report/document.h"
 #include "app/report/report.h"
 
@@ -134,7 +135,29 @@ struct CampaignState {
   json flags = json::array();
   json results;  // null when the campaign has no report
   int exit_code = kExitOk;
+  std::string series;  // the trend pages' series: its tool's, else its own name
 };
+
+// The series of a campaign on the trend pages: those sharing a tool (teeth and radius) are one,
+// named after it; the tool comes from results.json when it holds one, else from campaign.yaml.
+// A campaign without a tool is a series of its own, named by the campaign.
+std::string campaign_series(const json& results, const fs::path& folder, const std::string& name) {
+  if (results.is_object()) {
+    if (const auto t = results.find("tool"); t != results.end() && t->is_object()) {
+      const auto teeth = t->find("teeth");
+      const auto r = t->find("radius_mm");
+      if (teeth != t->end() && teeth->is_number_integer() && r != t->end() && r->is_number()) {
+        return tool_series_name(teeth->get<int>(), r->get<double>());
+      }
+    }
+  }
+  try {
+    const CampaignSpec c = load_campaign(folder);
+    if (c.tool && c.tool->teeth > 0) return tool_series_name(c.tool->teeth, c.tool->radius_m * 1e3);
+  } catch (const std::exception&) {  // no readable campaign.yaml: no tool
+  }
+  return name;
+}
 
 json headline_values(const json& results) {
   json rows = json::array();
@@ -144,10 +167,36 @@ json headline_values(const json& results) {
   for (auto v = it->begin(); v != it->end(); ++v) {
     if (!v->is_number() || v.key().find("_over_k") != std::string::npos) continue;
     json row = {{"key", v.key()}, {"value", v->get<double>()}};
-    if (const auto ci = it->find(v.key() + "_ci95"); ci != it->end() && ci->is_array()) {
+    if (const auto ci = it->find(v.key() + "_ci95");
+        ci != it->end() && ci->is_array() && ci->size() == 2) {
       row["ci95"] = *ci;
     }
     rows.push_back(row);
+  }
+  return rows;
+}
+
+// Each cut's estimator finals (results.json tests.<id>.estimators.<variant>.estimates), keyed
+// "<test id>/<variant>/<estimate key>" for the trend table; a failed variant has none.
+json estimator_finals(const json& results) {
+  json rows = json::array();
+  if (!results.is_object()) return rows;
+  const auto tests = results.find("tests");
+  if (tests == results.end() || !tests->is_object()) return rows;
+  for (auto t = tests->begin(); t != tests->end(); ++t) {
+    if (!t->is_object()) continue;
+    const auto est = t->find("estimators");
+    if (est == t->end() || !est->is_object()) continue;
+    for (auto v = est->begin(); v != est->end(); ++v) {
+      if (!v->is_object()) continue;
+      const auto e = v->find("estimates");
+      if (e == v->end() || !e->is_object()) continue;
+      for (auto k = e->begin(); k != e->end(); ++k) {
+        if (!k->is_number()) continue;
+        rows.push_back(
+            {{"key", t.key() + "/" + v.key() + "/" + k.key()}, {"value", k->get<double>()}});
+      }
+    }
   }
   return rows;
 }
@@ -395,6 +444,7 @@ CampaignState finish_campaign(const fs::path& site, SiteDb& db, std::int64_t run
     }
   }
   st.exit_code = campaign_exit_code(st.status);
+  st.series = campaign_series(st.results, p.folder, st.name);
   if (!st.flags.empty() && st.exit_code == kExitOk) st.exit_code = kExitFlagged;
 
   SiteDb::Transaction t(db);
@@ -432,16 +482,23 @@ CampaignState finish_campaign(const fs::path& site, SiteDb& db, std::int64_t run
     row.bind_null(12);
   }
   row.step();
-  SiteDb::Statement val(db, "INSERT INTO trend_values VALUES (?, ?, ?, ?, ?, ?)");
-  for (const auto& v : headline_values(st.results)) {
+  SiteDb::Statement val(db,
+                        "INSERT INTO trend_values (run_id, campaign, key, value, lo, hi) VALUES "
+                        "(?, ?, ?, ?, ?, ?)");
+  json values = headline_values(st.results);
+  for (const auto& v : estimator_finals(st.results)) values.push_back(v);
+  for (const auto& v : values) {
     val.reset();
     val.bind(1, run_id).bind(2, st.name).bind(3, v["key"].get<std::string>());
     val.bind(4, v["value"].get<double>());
-    if (v.contains("ci95")) {
-      val.bind(5, v["ci95"][0].is_number() ? v["ci95"][0].get<double>() : 0.0);
-      val.bind(6, v["ci95"][1].is_number() ? v["ci95"][1].get<double>() : 0.0);
-    } else {
-      val.bind_null(5).bind_null(6);
+    // An interval end that is not a number (null: not finite in results.json) stays NULL.
+    const json ci = v.value("ci95", json());
+    for (int end = 0; end < 2; ++end) {
+      if (ci.is_array() && ci.size() == 2 && ci[end].is_number()) {
+        val.bind(5 + end, ci[end].get<double>());
+      } else {
+        val.bind_null(5 + end);
+      }
     }
     val.step();
   }
@@ -469,13 +526,16 @@ void log_campaign(std::ostream& log, std::ostream& err, std::size_t i, std::size
   }
 }
 
-// The end of a run: the index page and nightly.json, the report folders that leave the site,
-// the run marked done. Returns the exit status (`exit_code`, raised when the index's PDF was
-// not written).
+void install_staged_report(const fs::path& staged, const fs::path& dest);
+
+// The end of a run: the index page, the trend and estimator pages and nightly.json, the report
+// folders that leave the site, the run marked done. Returns the exit status (`exit_code`, raised
+// when the index's PDF was not written).
 int write_site_index(const std::string& root_label, const fs::path& site, SiteDb& db,
                      std::int64_t run_id, const std::string& started, double runtime, bool pdf,
                      const std::vector<CampaignState>& states,
-                     std::vector<fs::path> remove_after_index, int exit_code, std::ostream& log,
+                     std::vector<fs::path> remove_after_index, int exit_code,
+                     const CompareOptions& tolerances, int jobs, std::ostream& log,
                      std::ostream& err) {
   std::error_code ec;
   // Report folders of campaigns no longer in the archive leave the site (their history stays),
@@ -507,7 +567,8 @@ int write_site_index(const std::string& root_label, const fs::path& site, SiteDb
     json values = json::array();
     for (const auto& v : headline_values(s.results)) {
       std::string text = v["key"].get<std::string>() + " = " + fmt_sig(v["value"].get<double>(), 4);
-      if (v.contains("ci95") && v["ci95"][0].is_number() && v["ci95"][1].is_number()) {
+      if (v.contains("ci95") && v["ci95"].is_array() && v["ci95"].size() == 2 &&
+          v["ci95"][0].is_number() && v["ci95"][1].is_number()) {
         text += " [" + fmt_sig(v["ci95"][0].get<double>(), 4) + ", " +
                 fmt_sig(v["ci95"][1].get<double>(), 4) + "]";
       }
@@ -556,9 +617,21 @@ int write_site_index(const std::string& root_label, const fs::path& site, SiteDb
     err << doc_log.str();
     exit_code = std::max(exit_code, static_cast<int>(kExitInputError));
   }
+  // The trend and estimator pages, their figures put in place before the pages that show them.
+  std::vector<TrendCampaign> trend_campaigns;
+  for (const auto& s : states) trend_campaigns.push_back({s.name, s.series, s.results});
+  const TrendPages trends = write_trend_pages(stage, db, run_id, trend_campaigns, tolerances,
+                                              {{"root", root_label},
+                                               {"version", CHATTERLAB_VERSION},
+                                               {"generated_utc", ctx["generated_utc"]},
+                                               {"generated_iso", ctx["generated_iso"]}},
+                                              jobs);
+  for (const auto& e : trends.errors) err << "nightly: trends: " << e << "\n";
+  install_staged_report(stage / "figures", site / "figures");
   // No report.pdf of an earlier run beside this run's index page.
   if (!pdf_written) fs::remove(site / "report.pdf", ec);
-  for (const char* f : {"report.css", "index.html", "report.pdf", "nightly.json"}) {
+  for (const char* f : {"report.css", "index.html", "trends.html", "estimators.html", "report.pdf",
+                        "nightly.json"}) {
     if (f == std::string("report.pdf") && !pdf_written) continue;
     if (fs::exists(stage / f, ec)) fs::rename(stage / f, site / f);
   }
@@ -752,7 +825,8 @@ int run_nightly(const fs::path& root, const fs::path& site, const NightlyOptions
           states.push_back(std::move(st));
         }
         return write_site_index(root_label(root), site, db, run_id, started, seconds_since(t0),
-                                options.pdf, states, remove_after_index, exit_code, log, err);
+                                options.pdf, states, remove_after_index, exit_code,
+                                options.tolerances, jobs, log, err);
       }
 
       // --slurm: the plan and the job scripts into the site, a task per campaign to recompute.
@@ -894,10 +968,10 @@ int run_nightly_reduce(const fs::path& site, std::int64_t run, const NightlyOpti
           std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch())
               .count() -
           plan.at("started_epoch_s").get<double>();
-      exit_code = write_site_index(plan.at("root").get<std::string>(), site, db, run,
-                                   plan.at("started_utc").get<std::string>(),
-                                   std::max(runtime, seconds_since(t0)), pdf, states,
-                                   remove_after_index, exit_code, log, err);
+      exit_code = write_site_index(
+          plan.at("root").get<std::string>(), site, db, run,
+          plan.at("started_utc").get<std::string>(), std::max(runtime, seconds_since(t0)), pdf,
+          states, remove_after_index, exit_code, tolerances, plan.at("jobs").get<int>(), log, err);
       fs::remove_all(run_dir / "out", ec);
     } catch (...) {
       mark_failed(db, run);
