@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "analysis/common/summary.h"
+#include "app/core/format.h"
 #include "app/core/hashing.h"
 #include "app/nightly/cache_keys.h"
 #include "app/nightly/history.h"
@@ -629,6 +630,158 @@ TEST_F(Nightly, ASlurmRunWhoseReduceJobIsGoneIsInterruptedAndItsReduceRefused) {
       site.string() +
           ": run 7 is not waiting for its reduce job (status absent); nothing was "
           "changed");
+}
+
+// The rows of the trend table of identified `key` in trends.html, each as its cells' text
+// (tags removed).
+std::vector<std::vector<std::string>> trend_rows(const std::string& page, const std::string& key) {
+  std::vector<std::vector<std::string>> rows;
+  const auto head = page.find("<th>" + key + "</th>");
+  if (head == std::string::npos) return rows;
+  const std::string table = page.substr(head, page.find("</table>", head) - head);
+  const std::regex row("<tr>(.*?)</tr>");
+  const std::regex cell("<td[^>]*>(.*?)</td>");
+  const std::regex tag("<[^>]*>");
+  for (auto r = std::sregex_iterator(table.begin(), table.end(), row); r != std::sregex_iterator();
+       ++r) {
+    const std::string text = (*r)[1].str();
+    std::vector<std::string> cells;
+    for (auto c = std::sregex_iterator(text.begin(), text.end(), cell); c != std::sregex_iterator();
+         ++c) {
+      cells.push_back(std::regex_replace((*c)[1].str(), tag, ""));
+    }
+    if (!cells.empty()) rows.push_back(cells);
+  }
+  return rows;
+}
+
+// A value of the cut moved (the displacement sensor's distance to the tool tip 5 % off): the
+// trend page flags it "moved" in the second run; the database holds every estimator final of
+// the cut as results.json has it; the comparison page lists every variant.
+TEST_F(Nightly, TrendPagesFlagAMovedValueAndTheDatabaseHoldsTheEstimatorFinals) {
+  const fs::path root = archive_copy("trends");
+  const fs::path site = dir_->path() / "site-trends";
+  std::string log;
+  ASSERT_EQ(run(root, site, &log), 1) << log;  // broken/ cannot be read
+  const json first = read_json(site / "campaigns/nightly-a/results.json");
+  const fs::path yaml = root / "a" / "cuts" / "constant" / "test.yaml";
+  std::string text = chatterlab::testing::file_text(yaml);
+  text = std::regex_replace(text, std::regex("sensor_to_tip: 2.78"), "sensor_to_tip: 2.92");
+  std::ofstream(yaml) << text;
+  ASSERT_EQ(run(root, site, &log), 1) << log;
+  const json second = read_json(site / "campaigns/nightly-a/results.json");
+  const double m1 = first["identified"]["m_kg"].get<double>();
+  const double m2 = second["identified"]["m_kg"].get<double>();
+  ASSERT_NE(m1, m2);
+
+  // a and b share their tool (2 teeth, radius 6.35 mm): one series; broken/ has none.
+  ASSERT_TRUE(fs::exists(site / "trends.html"));
+  const std::string page = chatterlab::testing::file_text(site / "trends.html");
+  EXPECT_NE(page.find("<h2>2 teeth, r 6.35 mm</h2>\n<p>Campaigns: nightly-a, nightly-b.</p>"),
+            std::string::npos);
+  EXPECT_NE(page.find("<h2>broken</h2>\n<p>Campaigns: broken.</p>"), std::string::npos);
+  const auto rows = trend_rows(page, "m_kg");
+  ASSERT_EQ(rows.size(), 2u) << page;
+  EXPECT_EQ(rows[0][0], "1");
+  EXPECT_EQ(rows[0][2], "nightly-a");
+  EXPECT_EQ(rows[0][3], fmt_sig(m1, 6));
+  EXPECT_EQ(rows[0][5], "");
+  EXPECT_EQ(rows[1][0], "2");
+  EXPECT_EQ(rows[1][3], fmt_sig(m2, 6));
+  EXPECT_EQ(rows[1][4], "[" + fmt_sig(second["identified"]["m_kg_ci95"][0].get<double>(), 5) +
+                            ", " + fmt_sig(second["identified"]["m_kg_ci95"][1].get<double>(), 5) +
+                            "]");
+  EXPECT_EQ(rows[1][5], "moved");
+  EXPECT_NE(page.find("nightly-a: <code>m_kg</code> moved"), std::string::npos);  // this run's
+  EXPECT_TRUE(fs::exists(site / "figures" / "trend-1-m_kg.svg"));
+  EXPECT_TRUE(fs::exists(site / "figures" / "trend-1-m_kg.png"));
+  const std::string index = chatterlab::testing::file_text(site / "index.html");
+  EXPECT_NE(index.find("href=\"trends.html\""), std::string::npos);
+  EXPECT_NE(index.find("href=\"estimators.html\""), std::string::npos);
+
+  // The database: the identified values with their intervals, and each estimator final.
+  SiteDb db(site / "history.sqlite");
+  SiteDb::Statement s(db,
+                      "SELECT value, lo, hi FROM trend_values WHERE run_id = 2 AND campaign = "
+                      "'nightly-a' AND key = ?");
+  s.bind(1, std::string("m_kg"));
+  ASSERT_TRUE(s.step());
+  EXPECT_EQ(s.real(0), m2);
+  EXPECT_EQ(s.real(1), second["identified"]["m_kg_ci95"][0].get<double>());
+  EXPECT_EQ(s.real(2), second["identified"]["m_kg_ci95"][1].get<double>());
+  const json& estimators = second["tests"]["cuts/constant"]["estimators"];
+  ASSERT_EQ(estimators.size(), 13u);
+  int finals = 0;
+  for (auto v = estimators.begin(); v != estimators.end(); ++v) {
+    for (auto k = (*v)["estimates"].begin(); k != (*v)["estimates"].end(); ++k) {
+      const std::string key = "cuts/constant/" + v.key() + "/" + k.key();
+      s.reset();
+      s.bind(1, key);
+      ASSERT_TRUE(s.step()) << key;
+      EXPECT_EQ(s.real(0), k->get<double>()) << key;
+      EXPECT_TRUE(s.is_null(1)) << key;  // a final has no interval
+      EXPECT_TRUE(s.is_null(2)) << key;
+      ++finals;
+    }
+  }
+  // 2 x (3 + 3 + 2 + 2) modal, 2 x 2 one-pair and 3 x 4 per-tooth coefficients
+  EXPECT_EQ(finals, 36);
+  SiteDb::Statement count(db,
+                          "SELECT COUNT(*) FROM trend_values WHERE run_id = 2 AND campaign = "
+                          "'nightly-a' AND key LIKE 'cuts/%'");
+  ASSERT_TRUE(count.step());
+  EXPECT_EQ(count.integer(0), finals);
+
+  // The comparison page: one row per variant of the cut, with its final estimates.
+  const std::string cmp = chatterlab::testing::file_text(site / "estimators.html");
+  for (auto v = estimators.begin(); v != estimators.end(); ++v) {
+    const std::string row = "<td><code>cuts/constant</code></td><td>" + v.key() + "</td>";
+    EXPECT_NE(cmp.find(row), std::string::npos) << v.key();
+  }
+  EXPECT_NE(cmp.find("m_kg = " +
+                     fmt_sig(estimators["ekf-modal-x"]["estimates"]["m_kg"].get<double>(), 6)),
+            std::string::npos);
+  EXPECT_TRUE(fs::exists(site / "figures" / "estimators-1.svg"));
+}
+
+// A ci95 end that is not a number (null in results.json) stays NULL in trend_values and shows
+// as n/a; a run of another program than the previous one's is flagged "program changed".
+TEST_F(Nightly, ANullIntervalEndStaysNullAndAChangedProgramIsFlagged) {
+  const fs::path root = dir_->path() / "trends-null";
+  fs::create_directories(root);
+  fs::copy(dir_->path() / "archive" / "a", root / "a", fs::copy_options::recursive);
+  const fs::path site = dir_->path() / "site-trends-null";
+  std::string log;
+  ASSERT_EQ(run(root, site, &log), 0) << log;
+  // The stored results with an interval end made null, recorded as the run's, so that the next
+  // run takes them from the cache; and the first run's program made another.
+  const fs::path results = site / "campaigns" / "nightly-a" / "results.json";
+  json r = read_json(results);
+  const double c = r["identified"]["c_kg_s"].get<double>();
+  const double lo = r["identified"]["c_kg_s_ci95"][0].get<double>();
+  r["identified"]["c_kg_s_ci95"][1] = nullptr;
+  write_results_json(results, r);
+  {
+    SiteDb db(site / "history.sqlite");
+    SiteDb::Statement u(db, "UPDATE campaign_runs SET results_sha256 = ? WHERE run_id = 1");
+    u.bind(1, sha256_file(results));
+    u.step();
+    db.exec("UPDATE runs SET version = 'an older chatterlab' WHERE id = 1");
+  }
+  ASSERT_EQ(run(root, site, &log), 0) << log;
+  EXPECT_TRUE(read_json(site / "nightly.json")["campaigns"]["nightly-a"]["recomputed"].empty());
+  SiteDb db(site / "history.sqlite");
+  SiteDb::Statement s(db,
+                      "SELECT value, lo, hi FROM trend_values WHERE run_id = 2 AND campaign = "
+                      "'nightly-a' AND key = 'c_kg_s'");
+  ASSERT_TRUE(s.step());
+  EXPECT_EQ(s.real(0), c);
+  EXPECT_EQ(s.real(1), lo);
+  EXPECT_TRUE(s.is_null(2));
+  const auto rows = trend_rows(chatterlab::testing::file_text(site / "trends.html"), "c_kg_s");
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[1][4], "[" + fmt_sig(lo, 5) + ", n/a]");
+  EXPECT_EQ(rows[1][5], "program changed");  // the same value: not moved
 }
 
 }  // namespace
