@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "app/core/archive_analysis.h"
 #include "app/core/format.h"
 #include "app/core/signals.h"
 #include "app/core/yaml_reader.h"
@@ -169,6 +170,28 @@ void DynoSlotKind::run(const TestSpec& t, const CampaignValues&, const RunContex
   out.status.succeed();
 }
 
+template <class Ar>
+void fields(Ar& ar, DynoRecordOutcome& d) {
+  LAYOUT_GUARD(DynoRecordOutcome, 288);
+  ar(d.id, d.feed_per_tooth_m, d.axial_depth_m, d.spindle_rpm, d.result);
+}
+
+template <class Ar>
+void fields(Ar& ar, DynoGroupResult& g) {
+  LAYOUT_GUARD(DynoGroupResult, 240);
+  ar(g.records, g.fit);
+}
+
+std::string DynoSlotKind::save(const TestOutcome& out) const {
+  return to_bytes(out.result_of<DynoRecordOutcome>());
+}
+
+void DynoSlotKind::restore(const TestSpec&, const std::string& bytes, TestOutcome& out) const {
+  auto r = std::make_unique<DynoRecordOutcome>();
+  from_bytes(bytes, *r);
+  out.result = std::move(r);
+}
+
 void DynoSlotKind::publish(const TestOutcome& out, CampaignValues& values) const {
   values.put(value::kDynoSlotRecord, out.spec->id, out.result_of<DynoRecordOutcome>());
 }
@@ -238,6 +261,16 @@ void DynoSlotGroup::run(const CampaignValues& in, const RunContext& ctx, GroupOu
 void DynoSlotGroup::publish(const GroupOutcome& out, CampaignValues& values) const {
   values.put(value::kCuttingCoefficients, "group:" + name(),
              out.result_of<DynoGroupResult>().fit.coefficients);
+}
+
+std::string DynoSlotGroup::save(const GroupOutcome& out) const {
+  return to_bytes(out.result_of<DynoGroupResult>());
+}
+
+void DynoSlotGroup::restore(const std::string& bytes, GroupOutcome& out) const {
+  auto r = std::make_unique<DynoGroupResult>();
+  from_bytes(bytes, *r);
+  out.result = std::move(r);
 }
 
 json DynoSlotGroup::results(const GroupOutcome& out) const {

@@ -54,6 +54,9 @@ class DynoSlotKind : public TestKind {
   void run(const TestSpec& t, const CampaignValues& in, const RunContext& ctx,
            TestOutcome& out) const override;
   void publish(const TestOutcome& out, CampaignValues& values) const override;
+  bool cacheable() const override { return true; }
+  std::string save(const TestOutcome& out) const override;
+  void restore(const TestSpec& t, const std::string& bytes, TestOutcome& out) const override;
   nlohmann::json results(const TestOutcome& out) const override;
   nlohmann::json settings(const CampaignSpec&) const override;
   std::string note(const TestOutcome& out) const override;
@@ -79,6 +82,9 @@ class DynoSlotGroup : public GroupProduct {
   }
   void run(const CampaignValues& in, const RunContext& ctx, GroupOutcome& out) const override;
   void publish(const GroupOutcome& out, CampaignValues& values) const override;
+  bool cacheable() const override { return true; }
+  std::string save(const GroupOutcome& out) const override;
+  void restore(const std::string& bytes, GroupOutcome& out) const override;
   nlohmann::json results(const GroupOutcome& out) const override;
   nlohmann::json settings(const CampaignSpec&) const override;
   void figures(const CampaignResults&, const GroupOutcome& out, FigureJobs& jobs) const override;
