@@ -6,8 +6,22 @@
 #include "analysis/common/modal_parameters.h"
 #include "analysis/cutting/dyno_slot.h"
 #include "analysis/cutting/slot_fit.h"
+#include "analysis/dynamics/bifurcation.h"
+#include "analysis/dynamics/poincare.h"
+#include "analysis/estimate/ekf_variants.h"
+#include "analysis/estimate/estimation_window.h"
+#include "analysis/estimate/identification.h"
+#include "analysis/estimate/joint_identification.h"
+#include "analysis/estimate/observability.h"
+#include "analysis/estimate/repeatability.h"
 #include "analysis/frf/modal_fit.h"
 #include "analysis/frf/mode.h"
+#include "analysis/kalman/chi_square.h"
+#include "analysis/kalman/consistency.h"
+#include "analysis/sync/offset_angle.h"
+#include "analysis/sync/offset_search.h"
+#include "analysis/sync/revolution_mean.h"
+#include "analysis/sync/tach_angle.h"
 #include "app/core/archive.h"
 
 namespace chatterlab {
@@ -48,6 +62,160 @@ void fields(Ar& ar, SlotCoefficients& c) {
 }
 
 }  // namespace cutting
+
+namespace sync {
+
+template <class Ar>
+void fields(Ar& ar, TachAngle& t) {
+  LAYOUT_GUARD(TachAngle, 216);
+  ar(t.summary, t.fs_hz, t.edges, t.phase_rad, t.revolutions, t.measured_rpm, t.min_rpm, t.max_rpm,
+     t.expected_rpm, t.low_V, t.high_V, t.threshold_V, t.hysteresis_V);
+}
+
+template <class Ar>
+void fields(Ar& ar, RevolutionRange& r) {
+  LAYOUT_GUARD(RevolutionRange, 8);
+  ar(r.first, r.count);
+}
+
+template <class Ar>
+void fields(Ar& ar, RevolutionMean& m) {
+  LAYOUT_GUARD(RevolutionMean, 104);
+  ar(m.phase_rad, m.x_m, m.y_m, m.std_x_m, m.std_y_m, m.revolutions, m.start_s, m.end_s);
+}
+
+template <class Ar>
+void fields(Ar& ar, OffsetSearch& s) {
+  LAYOUT_GUARD(OffsetSearch, 80);
+  ar(s.offset_angle_deg, s.rms_error_m, s.candidate_deg, s.error_m, s.runner_up_deg,
+     s.runner_up_error_m, s.runner_up_ratio, s.ambiguous);
+}
+
+template <class Ar>
+void fields(Ar& ar, OffsetAngleResult& o) {
+  LAYOUT_GUARD(OffsetAngleResult, 320);
+  ar(o.summary, o.search, o.model_teeth_alike, o.relative_error, o.depth_m, o.measured_revolutions,
+     o.theta1_deg, o.simulated_x_m, o.simulated_y_m, o.measured_x_m, o.measured_y_m,
+     o.settle_change, o.simulated_revolutions, o.simulation_runtime_s, o.search_runtime_s);
+}
+
+}  // namespace sync
+
+namespace dynamics {
+
+template <class Ar>
+void fields(Ar& ar, Transition& t) {
+  LAYOUT_GUARD(Transition, 24);
+  ar(t.revolution, t.depth_m, t.kind);
+}
+
+template <class Ar>
+void fields(Ar& ar, ChatterIsland& i) {
+  LAYOUT_GUARD(ChatterIsland, 32);
+  ar(i.onset_revolution, i.end_revolution, i.onset_depth_m, i.end_depth_m);
+}
+
+template <class Ar>
+void fields(Ar& ar, BifurcationResult& b) {
+  LAYOUT_GUARD(BifurcationResult, 248);
+  ar(b.summary, b.profile, b.verdict, b.bifurcation_depth_m, b.transitions, b.islands, b.state,
+     b.spread_m, b.noise_floor_m, b.noise_floor_source, b.enter_threshold_m, b.exit_threshold_m,
+     b.chatter_fraction);
+}
+
+template <class Ar>
+void fields(Ar& ar, PoincareMap& p) {
+  LAYOUT_GUARD(PoincareMap, 56);
+  ar(p.requested_depth_m, p.centre_revolution, p.first_revolution, p.first_depth_m, p.last_depth_m,
+     p.points_m);
+}
+
+template <class Ar>
+void fields(Ar& ar, OrbitClass& o) {
+  LAYOUT_GUARD(OrbitClass, 24);
+  ar(o.shape, o.period, o.spread_m, o.phase_dispersion);
+}
+
+}  // namespace dynamics
+
+namespace kalman {
+
+template <class Ar>
+void fields(Ar& ar, ChiSquareBand& b) {
+  LAYOUT_GUARD(ChiSquareBand, 32);
+  ar(b.lower, b.upper, b.dof, b.confidence);
+}
+
+template <class Ar>
+void fields(Ar& ar, NisSummary& n) {
+  LAYOUT_GUARD(NisSummary, 72);
+  ar(n.updates, n.dof, n.mean, n.mean_band, n.fraction_inside, n.confidence);
+}
+
+}  // namespace kalman
+
+namespace estimate {
+
+template <class Ar>
+void fields(Ar& ar, EstimationWindow& w) {
+  LAYOUT_GUARD(EstimationWindow, 88);
+  ar(w.start_s, w.end_s, w.depth_start_m, w.depth_end_m, w.rule, w.warnings);
+}
+
+template <class Ar>
+void fields(Ar& ar, IdentificationPass& p) {
+  LAYOUT_GUARD(IdentificationPass, 72);
+  ar(p.offset_deg, p.coefficients, p.modal, p.offset_after_deg, p.offset_relative_error);
+}
+
+template <class Ar>
+void fields(Ar& ar, IntervalValue& v) {
+  LAYOUT_GUARD(IntervalValue, 40);
+  ar(v.value, v.sd, v.lo, v.hi, v.identifiable);
+}
+
+template <class Ar>
+void fields(Ar& ar, JointIdentificationResult& j) {
+  LAYOUT_GUARD(JointIdentificationResult, 552);
+  ar(j.summary, j.converged, j.termination, j.iterations, j.simulations, j.runtime_s, j.residuals,
+     j.parameters, j.rms_error_m, j.start_rms_error_m, j.relative_error, j.residual_sd_m,
+     j.residual_correlation_lag1, j.correlation_lags, j.variance_inflation, j.condition,
+     j.singular_directions, j.offset_deg, j.fn_hz, j.zeta, j.m_kg, j.c_kg_s, j.k_N_m, j.Kt_N_m2,
+     j.Kr_N_m2, j.Kt_over_k_per_m, j.Kr_over_k_per_m);
+}
+
+template <class Ar>
+void fields(Ar& ar, ObservabilityResult& o) {
+  LAYOUT_GUARD(ObservabilityResult, 32);
+  ar(o.rank, o.states, o.singular_values, o.relative_tolerance);
+}
+
+template <class Ar>
+void fields(Ar& ar, Estimate& e) {
+  LAYOUT_GUARD(Estimate, 48);
+  ar(e.key, e.value, e.variance);
+}
+
+template <class Ar>
+void fields(Ar& ar, EstimateHistory& h) {
+  LAYOUT_GUARD(EstimateHistory, 64);
+  ar(h.columns, h.time_s, h.values);
+}
+
+template <class Ar>
+void fields(Ar& ar, EkfResult& r) {
+  LAYOUT_GUARD(EkfResult, 384);
+  ar(r.summary, r.id, r.estimator, r.estimates, r.final_state, r.covariance_diagonal, r.history,
+     r.steps, r.runtime_s, r.time_step_s, r.filters, r.nis, r.nis_per_filter);
+}
+
+template <class Ar>
+void fields(Ar& ar, RepeatabilityResult& r) {
+  LAYOUT_GUARD(RepeatabilityResult, 272);
+  ar(r.summary, r.keys, r.initial, r.finals, r.mean, r.std_dev, r.min, r.max, r.range, r.runs);
+}
+
+}  // namespace estimate
 
 namespace frf {
 

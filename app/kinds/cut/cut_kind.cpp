@@ -4,6 +4,7 @@
 #include <cmath>
 #include <set>
 
+#include "app/core/archive_analysis.h"
 #include "app/core/yaml_reader.h"
 #include "app/kinds/common/conditions.h"
 #include "app/kinds/cut/cut_synth.h"
@@ -159,6 +160,44 @@ std::vector<Need> CutKind::needs(const TestSpec&) const {
 
 std::string CutKind::describe_value(const std::string& name) const {
   return name == value::kCutSummary ? "the cut tests' conditions and identified values" : "";
+}
+
+template <class Ar>
+void fields(Ar& ar, VariantOutcome& v) {
+  LAYOUT_GUARD(VariantOutcome, 848);
+  ar(v.run, v.observability_status, v.observability, v.repeat, v.known, v.start);
+}
+
+template <class Ar>
+void fields(Ar& ar, SimulatedBifurcation& b) {
+  LAYOUT_GUARD(SimulatedBifurcation, 168);
+  ar(b.chip_model, b.status, b.depth_m, b.verdict, b.steps, b.runtime_s);
+}
+
+template <class Ar>
+void fields(Ar& ar, CutEstimation& e) {
+  LAYOUT_GUARD(CutEstimation, 1240);
+  ar(e.summary, e.window, e.resampled_samples, e.passes, e.converged, e.modal, e.coefficients,
+     e.offset, e.joint, e.variants, e.chip_t_s, e.chip_m, e.simulated, e.runtime_s);
+}
+
+template <class Ar>
+void fields(Ar& ar, CutOutcome& c) {
+  LAYOUT_GUARD(CutOutcome, 2808);
+  ar(c.summary, c.warnings, c.tach, c.contour, c.air_revolutions, c.excerpt_t_s, c.excerpt_raw_x_m,
+     c.excerpt_x_m, c.offset_status, c.offset, c.offset_measured, c.bifurcation_status, c.ramped,
+     c.orbit_status, c.orbit, c.orbit_noise_floor_m, c.depth_n_m, c.x_n_m, c.bifurcation,
+     c.poincare, c.detector_noise_m, c.estimation);
+}
+
+std::string CutKind::save(const TestOutcome& out) const {
+  return to_bytes(out.result_of<CutOutcome>());
+}
+
+void CutKind::restore(const TestSpec&, const std::string& bytes, TestOutcome& out) const {
+  auto r = std::make_unique<CutOutcome>();
+  from_bytes(bytes, *r);
+  out.result = std::move(r);
 }
 
 void CutKind::publish(const TestOutcome& t, CampaignValues& values) const {

@@ -37,6 +37,9 @@ class CutKind : public TestKind {
   void run(const TestSpec& t, const CampaignValues& in, const RunContext& ctx,
            TestOutcome& out) const override;
   void publish(const TestOutcome& t, CampaignValues& values) const override;
+  bool cacheable() const override { return true; }
+  std::string save(const TestOutcome& out) const override;
+  void restore(const TestSpec& t, const std::string& bytes, TestOutcome& out) const override;
   nlohmann::json results(const TestOutcome& t) const override;
   // <test>/identified.csv: the test's identified values (cut_results.cpp).
   void write_files(const TestOutcome& t, const std::filesystem::path& report_dir) const override;
