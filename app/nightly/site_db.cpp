@@ -112,44 +112,85 @@ CREATE TABLE trend_values (
 }
 
 SiteDb::SiteDb(const std::filesystem::path& file) : file_(file) {
-  if (sqlite3_open_v2(file.c_str(), &db_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr) !=
-      SQLITE_OK) {
-    const std::string why = db_ ? sqlite3_errmsg(db_) : "out of memory";
-    sqlite3_close(db_);
-    db_ = nullptr;
-    throw InputError(file.string() + ": cannot be opened as a database: " + why);
+  sqlite3* handle = nullptr;
+  const int opened =
+      sqlite3_open_v2(file.c_str(), &handle, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr);
+  db_.reset(handle);  // closed from here on, also when this constructor throws
+  if (opened != SQLITE_OK) {
+    throw InputError(file.string() + ": cannot be opened as a database: " +
+                     (handle ? sqlite3_errmsg(handle) : "out of memory"));
   }
-  sqlite3_busy_timeout(db_, 10000);
+  sqlite3_busy_timeout(db_.get(), 10000);
   int version = 0;
   try {
     exec("PRAGMA foreign_keys = ON");
     version = schema_version();
-  } catch (const std::exception& e) {
-    sqlite3_close(db_);
-    db_ = nullptr;
-    throw InputError(file.string() + ": not a chatterlab site database: " + e.what());
+  } catch (const std::exception&) {  // SQLite cannot read it: "file is not a database"
+    throw InputError(file.string() + ": not a chatterlab site database (" +
+                     sqlite3_errmsg(db_.get()) + ")");
   }
-  if (version > kSchemaVersion) {
-    sqlite3_close(db_);
-    db_ = nullptr;
-    throw InputError(file.string() + ": its schema version " + std::to_string(version) +
+  const auto refuse_newer = [&](int v) {
+    if (v <= kSchemaVersion) return;
+    throw InputError(file.string() + ": its schema version " + std::to_string(v) +
                      " is newer than this chatterlab's (" + std::to_string(kSchemaVersion) +
                      "): run a newer chatterlab on this site, or give another --out");
+  };
+  refuse_newer(version);
+  if (version == kSchemaVersion) return;
+  // Another process (a second nightly, compare --site) may have migrated the file since the read
+  // above: read the version again under the write lock and migrate only what is still missing.
+  Transaction t(*this);
+  version = schema_version();
+  refuse_newer(version);
+  if (version == 0) {
+    // Version 0 is a file no chatterlab has written: it must hold no tables yet. One that does
+    // belongs to another program, and is left untouched.
+    Statement count(*this, "SELECT COUNT(*) FROM sqlite_master");
+    if (count.step() && count.integer(0) > 0) {
+      std::string tables;
+      Statement names(
+          *this, "SELECT name FROM sqlite_master WHERE type IN ('table', 'view') ORDER BY name");
+      for (int n = 0; names.step(); ++n) {  // the first five names
+        if (n < 5) tables += (n > 0 ? ", " : "") + names.text(0);
+        if (n == 5) tables += ", ...";
+      }
+      throw InputError(file.string() +
+                       ": not a chatterlab site database (its schema version is 0, yet it "
+                       "already holds tables: " +
+                       tables + ")");
+    }
   }
-  if (version < kSchemaVersion) {
-    Transaction t(*this);
+  if (version < kSchemaVersion) {  // else: migrated by the other process meanwhile
     for (int v = version; v < kSchemaVersion; ++v) exec(migrations()[static_cast<size_t>(v)]);
     exec("PRAGMA user_version = " + std::to_string(kSchemaVersion));
-    t.commit();
   }
+  t.commit();
 }
 
-SiteDb::~SiteDb() {
-  if (db_) sqlite3_close_v2(db_);
+SiteDb::~SiteDb() = default;
+
+void SiteDb::Close::operator()(sqlite3* db) const { sqlite3_close_v2(db); }
+
+namespace {
+
+// The SQL of a statement for a message: on one line, without its closing ';', the first 120
+// characters.
+std::string sql_for_message(const std::string& sql) {
+  std::string out;
+  for (const char c : sql) {
+    const bool space = c == ' ' || c == '\n' || c == '\t' || c == '\r';
+    if (space && (out.empty() || out.back() == ' ')) continue;
+    out += space ? ' ' : c;
+  }
+  while (!out.empty() && (out.back() == ' ' || out.back() == ';')) out.pop_back();
+  return out.size() > 120 ? out.substr(0, 120) + "..." : out;
 }
 
-void SiteDb::fail(const std::string& what) {
-  throw std::runtime_error(file_.string() + ": " + what + ": " + sqlite3_errmsg(db_));
+}  // namespace
+
+void SiteDb::fail(const std::string& what, const std::string& sql) {
+  throw std::runtime_error(file_.string() + ": " + what + " (" + sql_for_message(sql) +
+                           "): " + sqlite3_errmsg(db_.get()));
 }
 
 int SiteDb::schema_version() {
@@ -165,51 +206,71 @@ std::string SiteDb::integrity_check() {
 }
 
 void SiteDb::exec(const std::string& sql) {
-  char* err = nullptr;
-  if (sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &err) != SQLITE_OK) {
-    const std::string why = err ? err : "unknown error";
-    sqlite3_free(err);
-    throw std::runtime_error(file_.string() + ": " + why);
+  // Statement by statement, as sqlite3_exec does, so that a failure names its own statement.
+  const char* next = sql.c_str();
+  while (*next != '\0') {
+    const char* start = next;
+    sqlite3_stmt* raw = nullptr;
+    if (sqlite3_prepare_v2(db_.get(), start, -1, &raw, &next) != SQLITE_OK) {
+      sqlite3_finalize(raw);
+      fail("cannot prepare", start);
+    }
+    if (!raw) continue;  // only white space or a comment was left
+    const std::string one(start, static_cast<std::size_t>(next - start));
+    int rc = SQLITE_ROW;
+    while (rc == SQLITE_ROW) rc = sqlite3_step(raw);
+    if (rc != SQLITE_DONE) {
+      const std::string why = sqlite3_errmsg(db_.get());
+      sqlite3_finalize(raw);
+      throw std::runtime_error(file_.string() + ": statement failed (" + sql_for_message(one) +
+                               "): " + why);
+    }
+    sqlite3_finalize(raw);
   }
 }
 
-std::int64_t SiteDb::last_insert_id() { return sqlite3_last_insert_rowid(db_); }
+std::int64_t SiteDb::last_insert_id() { return sqlite3_last_insert_rowid(db_.get()); }
 
-SiteDb::Statement::Statement(SiteDb& db, const std::string& sql) : db_(db) {
-  if (sqlite3_prepare_v2(db.db_, sql.c_str(), -1, &stmt_, nullptr) != SQLITE_OK) {
-    db.fail("cannot prepare '" + sql + "'");
+SiteDb::Statement::Statement(SiteDb& db, const std::string& sql) : db_(db), sql_(sql) {
+  if (sqlite3_prepare_v2(db.db_.get(), sql.c_str(), -1, &stmt_, nullptr) != SQLITE_OK) {
+    sqlite3_finalize(stmt_);
+    db.fail("cannot prepare", sql_);
   }
 }
 
 SiteDb::Statement::~Statement() { sqlite3_finalize(stmt_); }
 
+void SiteDb::Statement::bind_failed(int i) {
+  db_.fail("cannot bind parameter " + std::to_string(i) + " of", sql_);
+}
+
 SiteDb::Statement& SiteDb::Statement::bind(int i, const std::string& text) {
   if (sqlite3_bind_text(stmt_, i, text.data(), static_cast<int>(text.size()), SQLITE_TRANSIENT) !=
       SQLITE_OK) {
-    db_.fail("cannot bind");
+    bind_failed(i);
   }
   return *this;
 }
 
 SiteDb::Statement& SiteDb::Statement::bind(int i, double v) {
-  if (sqlite3_bind_double(stmt_, i, v) != SQLITE_OK) db_.fail("cannot bind");
+  if (sqlite3_bind_double(stmt_, i, v) != SQLITE_OK) bind_failed(i);
   return *this;
 }
 
 SiteDb::Statement& SiteDb::Statement::bind(int i, std::int64_t v) {
-  if (sqlite3_bind_int64(stmt_, i, v) != SQLITE_OK) db_.fail("cannot bind");
+  if (sqlite3_bind_int64(stmt_, i, v) != SQLITE_OK) bind_failed(i);
   return *this;
 }
 
 SiteDb::Statement& SiteDb::Statement::bind_blob(int i, const std::string& bytes) {
   if (sqlite3_bind_blob64(stmt_, i, bytes.data(), bytes.size(), SQLITE_TRANSIENT) != SQLITE_OK) {
-    db_.fail("cannot bind");
+    bind_failed(i);
   }
   return *this;
 }
 
 SiteDb::Statement& SiteDb::Statement::bind_null(int i) {
-  if (sqlite3_bind_null(stmt_, i) != SQLITE_OK) db_.fail("cannot bind");
+  if (sqlite3_bind_null(stmt_, i) != SQLITE_OK) bind_failed(i);
   return *this;
 }
 
@@ -217,7 +278,7 @@ bool SiteDb::Statement::step() {
   const int rc = sqlite3_step(stmt_);
   if (rc == SQLITE_ROW) return true;
   if (rc == SQLITE_DONE) return false;
-  db_.fail("statement failed");
+  db_.fail("statement failed", sql_);
 }
 
 void SiteDb::Statement::reset() {

@@ -1,8 +1,9 @@
 // The nightly site's database (docs/nightly.md#the-database): an embedded SQLite file,
 // <site>/history.sqlite, holding the test cache and the run history. Its schema carries a
 // version (SQLite's user_version); opening a file of an older version migrates it in one
-// transaction, a newer one is refused. Every write the nightly run makes is inside a
-// transaction, so a run killed at any moment leaves the previous state readable.
+// transaction, a newer one is refused, and so is a foreign SQLite file (schema version 0 but
+// tables already in it). Every write the nightly run makes is inside a transaction, so a run
+// killed at any moment leaves the previous state readable.
 //
 // SiteLock keeps two runs off one site: the second waits or is refused with a message naming
 // the run that holds it. The lock is an flock(2) on <site>/.nightly.lock, released by the
@@ -11,6 +12,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -37,8 +39,11 @@ class SiteDb {
   // The schema this program writes; migrations() holds one step per version.
   static constexpr int kSchemaVersion = 1;
 
-  // Opens or creates the database and migrates it to kSchemaVersion.
-  // @throws InputError naming the file: not a database, or a newer schema than this program's
+  // Opens or creates the database and migrates it to kSchemaVersion. The version is read again
+  // inside the migration's write transaction, so two processes opening a new file at once
+  // migrate it once: the second waits for the first and finds the schema in place.
+  // @throws InputError naming the file: not a database, not a chatterlab site database
+  //         (schema version 0 but tables already in it), or a newer schema than this program's
   explicit SiteDb(const std::filesystem::path& file);
   ~SiteDb();
   SiteDb(const SiteDb&) = delete;
@@ -47,10 +52,13 @@ class SiteDb {
   int schema_version();
   // SQLite's PRAGMA integrity_check: "ok", or the problems it found.
   std::string integrity_check();
-  // Runs SQL without results. @throws std::runtime_error with SQLite's message
+  // Runs SQL without results, one statement after the other.
+  // @throws std::runtime_error naming the statement that failed and SQLite's message
   void exec(const std::string& sql);
 
   // A prepared statement: bind from 1, step() until it returns false, read columns from 0.
+  // Its failures throw std::runtime_error naming the file, the statement's SQL and SQLite's
+  // message.
   class Statement {
    public:
     Statement(SiteDb& db, const std::string& sql);
@@ -71,7 +79,9 @@ class SiteDb {
     std::string blob(int col) const;
 
    private:
+    [[noreturn]] void bind_failed(int i);
     SiteDb& db_;
+    std::string sql_;  // for messages
     sqlite3_stmt* stmt_ = nullptr;
   };
 
@@ -96,9 +106,14 @@ class SiteDb {
   static const std::vector<std::string>& migrations();
 
  private:
-  [[noreturn]] void fail(const std::string& what);
+  // Throws std::runtime_error "<file>: <what> (<sql>): <SQLite's message>".
+  [[noreturn]] void fail(const std::string& what, const std::string& sql);
+  // Closes the connection with sqlite3_close_v2, also when the constructor throws.
+  struct Close {
+    void operator()(sqlite3* db) const;
+  };
   std::filesystem::path file_;
-  sqlite3* db_ = nullptr;
+  std::unique_ptr<sqlite3, Close> db_;
 };
 
 }  // namespace chatterlab::app

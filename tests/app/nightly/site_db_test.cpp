@@ -1,5 +1,6 @@
 // The nightly site's database and lock (app/nightly/site_db.h): the schema version and its
-// migration, a newer or foreign file refused with its name, transactions that a killed writer
+// migration (once, when two processes open a new file at once), a newer or foreign file refused
+// with its name and closed, failures that name their SQL, transactions that a killed writer
 // leaves rolled back, and the lock that keeps a second run off the site.
 #include "app/nightly/site_db.h"
 
@@ -8,11 +9,20 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
 #include <fstream>
+#include <functional>
+#include <iterator>
 #include <memory>
+#include <sstream>
+#include <thread>
+#include <vector>
 
 #include "analysis/common/summary.h"
 #include "render/temp_dir.h"
+#include "tests/support/expect_input_error.h"
 
 namespace chatterlab::app {
 namespace {
@@ -58,6 +68,57 @@ pid_t child_holding(Hold&& hold) {
   return ok ? child : -1;
 }
 
+// Forks a child that runs `body` and exits: 0 when it returned, 3 when it threw (its message on
+// stderr). The child starts `body` when the pipe `go` reaches its end (once the parent closes
+// its write end), so that several children start together.
+pid_t child_running(const int go[2], const std::function<void()>& body) {
+  const pid_t child = ::fork();
+  if (child != 0) return child;
+  ::close(go[1]);
+  char c = 0;
+  if (::read(go[0], &c, 1) < 0) ::_exit(2);
+  try {
+    body();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "child: %s\n", e.what());
+    ::_exit(3);
+  }
+  ::_exit(0);
+}
+
+// Waits for a child and returns its exit status (-1: it did not exit normally).
+int exit_status(pid_t child) {
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// The message of the std::runtime_error that `f` throws ("" when it throws none).
+std::string runtime_error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// The file's bytes.
+std::string bytes_of(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// How many file descriptors this process holds: a sqlite3 handle left open keeps one.
+std::size_t open_descriptors() {
+  std::size_t n = 0;
+  for (auto it = std::filesystem::directory_iterator("/proc/self/fd");
+       it != std::filesystem::directory_iterator(); ++it) {
+    ++n;
+  }
+  return n;
+}
+
 // Kills the child with SIGKILL and says whether it died of it.
 bool kill_child(pid_t child) {
   ::kill(child, SIGKILL);
@@ -94,22 +155,148 @@ TEST(SiteDb, ANewerSchemaOrAFileThatIsNotADatabaseIsRefusedByName) {
     SiteDb db(file);
     db.exec("PRAGMA user_version = " + std::to_string(SiteDb::kSchemaVersion + 1));
   }
-  try {
-    SiteDb db(file);
-    FAIL() << "opened";
-  } catch (const InputError& e) {
-    const std::string m = e.what();
-    EXPECT_NE(m.find("history.sqlite"), std::string::npos) << m;
-    EXPECT_NE(m.find("newer than this chatterlab's"), std::string::npos) << m;
-  }
+  testing::expect_input_error(
+      [&] { SiteDb db(file); },
+      file.string() + ": its schema version " + std::to_string(SiteDb::kSchemaVersion + 1) +
+          " is newer than this chatterlab's (" + std::to_string(SiteDb::kSchemaVersion) +
+          "): run a newer chatterlab on this site, or give another --out");
   const auto text = dir.path() / "notes.sqlite";
   std::ofstream(text) << "these are not the pages of a database, but plain text of some length\n";
-  try {
-    SiteDb db(text);
-    FAIL() << "opened";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("notes.sqlite"), std::string::npos) << e.what();
+  testing::expect_input_error(
+      [&] { SiteDb db(text); },
+      text.string() + ": not a chatterlab site database (file is not a database)");
+}
+
+TEST(SiteDb, AnotherProgramsDatabaseIsRefusedAndLeftUntouched) {
+  // Schema version 0 with tables in it: another program's SQLite file, even one with a table
+  // named runs, is neither migrated nor changed.
+  render::TempDir dir("sitedb");
+  const auto file = dir.path() / "mileage.sqlite";
+  {
+    SiteDb db(file);
+    db.exec(
+        "DROP TABLE trend_values; DROP TABLE test_cache; DROP TABLE campaign_runs; "
+        "DROP TABLE runs; CREATE TABLE runs (car TEXT, km REAL); CREATE TABLE notes (x); "
+        "INSERT INTO runs VALUES ('blue', 12.5); PRAGMA user_version = 0");
   }
+  const std::string before = bytes_of(file);
+  ASSERT_FALSE(before.empty());
+  testing::expect_input_error([&] { SiteDb db(file); },
+                              file.string() +
+                                  ": not a chatterlab site database (its schema version is 0, yet "
+                                  "it already holds tables: notes, runs)");
+  EXPECT_EQ(bytes_of(file), before);
+}
+
+TEST(SiteDb, ARefusedFileIsClosed) {
+  // The constructor throws after opening the file: its sqlite3 handle, and the file descriptor
+  // it holds, must not outlive the exception.
+  render::TempDir dir("sitedb");
+  const auto newer = dir.path() / "newer.sqlite";
+  const auto foreign = dir.path() / "foreign.sqlite";
+  {
+    SiteDb a(newer);
+    a.exec("PRAGMA user_version = " + std::to_string(SiteDb::kSchemaVersion + 1));
+    SiteDb b(foreign);
+    b.exec("DROP TABLE trend_values; DROP TABLE test_cache; PRAGMA user_version = 0");
+  }
+  const std::size_t before = open_descriptors();
+  for (const auto& file : {newer, foreign}) {
+    EXPECT_THROW(SiteDb db(file), InputError) << file;
+    EXPECT_EQ(open_descriptors(), before) << file;
+  }
+}
+
+TEST(SiteDb, TwoProcessesOpeningANewFileMigrateItOnce) {
+  // The child turns the file back into a new one (schema version 0, no tables), takes the write
+  // lock and migrates it only after the parent has read version 0 and waits for that lock; the
+  // parent then finds the schema in place instead of creating its tables a second time.
+  render::TempDir dir("sitedb");
+  const auto file = dir.path() / "history.sqlite";
+  { SiteDb db(file); }
+  int ready[2];
+  ASSERT_EQ(::pipe(ready), 0);
+  const pid_t child = ::fork();
+  if (child == 0) {
+    ::close(ready[0]);
+    try {
+      SiteDb db(file);
+      db.exec(
+          "DROP TABLE trend_values; DROP TABLE test_cache; DROP TABLE campaign_runs; "
+          "DROP TABLE runs; PRAGMA user_version = 0");
+      db.exec("BEGIN IMMEDIATE");
+      const char c = 'x';
+      if (::write(ready[1], &c, 1) != 1) ::_exit(2);
+      std::this_thread::sleep_for(std::chrono::milliseconds(300));
+      for (const auto& m : SiteDb::migrations()) db.exec(m);
+      db.exec("PRAGMA user_version = " + std::to_string(SiteDb::kSchemaVersion));
+      db.exec("COMMIT");
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "child: %s\n", e.what());
+      ::_exit(3);
+    }
+    ::_exit(0);
+  }
+  ::close(ready[1]);
+  char c = 0;
+  ASSERT_EQ(::read(ready[0], &c, 1), 1);
+  ::close(ready[0]);
+  {
+    SiteDb db(file);  // reads version 0, then waits for the child's write lock
+    EXPECT_EQ(db.schema_version(), SiteDb::kSchemaVersion);
+    EXPECT_EQ(count(db, "runs"), 0);
+  }
+  EXPECT_EQ(exit_status(child), 0);
+}
+
+TEST(SiteDb, SeveralProcessesOpeningANewFileAtOnceAllSucceed) {
+  render::TempDir dir("sitedb");
+  const auto file = dir.path() / "history.sqlite";
+  int go[2];
+  ASSERT_EQ(::pipe(go), 0);
+  std::vector<pid_t> children;
+  for (int i = 0; i < 6; ++i) {
+    children.push_back(child_running(go, [&] {
+      SiteDb db(file);
+      add_run(db, "child");
+    }));
+  }
+  ::close(go[0]);
+  ::close(go[1]);  // all start now
+  for (const pid_t child : children) EXPECT_EQ(exit_status(child), 0);
+  SiteDb db(file);
+  EXPECT_EQ(db.schema_version(), SiteDb::kSchemaVersion);
+  EXPECT_EQ(count(db, "runs"), 6);
+}
+
+TEST(SiteDb, AFailingStatementNamesItsSql) {
+  render::TempDir dir("sitedb");
+  const auto file = dir.path() / "history.sqlite";
+  SiteDb db(file);
+  EXPECT_EQ(runtime_error_of([&] {
+              SiteDb::Statement s(db, "INSERT INTO runs (id) VALUES (1)");
+              s.step();
+            }),
+            file.string() +
+                ": statement failed (INSERT INTO runs (id) VALUES (1)): NOT NULL constraint "
+                "failed: runs.started_utc");
+  EXPECT_EQ(runtime_error_of([&] { SiteDb::Statement s(db, "SELECT x FROM nowhere"); }),
+            file.string() + ": cannot prepare (SELECT x FROM nowhere): no such table: nowhere");
+  // exec() names the statement of its SQL that failed, on one line.
+  EXPECT_EQ(runtime_error_of([&] {
+              db.exec(
+                  "CREATE TABLE scratch (x NOT NULL);\n"
+                  "INSERT INTO scratch VALUES (1);\n"
+                  "INSERT INTO scratch\n  VALUES (NULL);");
+            }),
+            file.string() +
+                ": statement failed (INSERT INTO scratch VALUES (NULL)): NOT NULL constraint "
+                "failed: scratch.x");
+  // Long SQL is cut after 120 characters.
+  const std::string columns(200, 'c');
+  EXPECT_EQ(runtime_error_of([&] { SiteDb::Statement s(db, "SELECT " + columns); }),
+            file.string() + ": cannot prepare (SELECT " + columns.substr(0, 113) +
+                "...): no such column: " + columns);
 }
 
 TEST(SiteDb, ATransactionLeftWithoutCommitIsRolledBack) {
