@@ -18,6 +18,7 @@
 #include "analysis/frf/mode.h"
 #include "analysis/kalman/chi_square.h"
 #include "analysis/kalman/consistency.h"
+#include "analysis/lobes/lobes.h"
 #include "analysis/sync/offset_angle.h"
 #include "analysis/sync/offset_search.h"
 #include "analysis/sync/revolution_mean.h"
@@ -216,6 +217,42 @@ void fields(Ar& ar, RepeatabilityResult& r) {
 }
 
 }  // namespace estimate
+
+namespace lobes {
+
+template <class Ar>
+void fields(Ar& ar, LobesInput& i) {
+  LAYOUT_GUARD(LobesInput, 160);
+  ar(i.teeth, i.radius_m, i.Kt_N_m2, i.Kr_N_m2, i.operation, i.radial_immersion_m, i.x_modes,
+     i.y_modes, i.spindle_rpm, i.max_depth_m);
+}
+
+template <class Ar>
+void fields(Ar& ar, SpeedResult& r) {
+  LAYOUT_GUARD(SpeedResult, 72);
+  ar(r.spindle_rpm, r.limit_depth_m, r.type, r.chatter_hz, r.critical_multiplier_abs,
+     r.critical_multiplier);
+}
+
+template <class Ar>
+void fields(Ar& ar, LobesResult& r) {
+  LAYOUT_GUARD(LobesResult, 136);
+  ar(r.summary, r.revolution_period, r.speeds, r.runtime_s);
+}
+
+template <class Ar>
+void fields(Ar& ar, ZeroOrderPoint& p) {
+  LAYOUT_GUARD(ZeroOrderPoint, 32);
+  ar(p.lobe, p.chatter_hz, p.spindle_rpm, p.depth_m);
+}
+
+template <class Ar>
+void fields(Ar& ar, ZeroOrderResult& r) {
+  LAYOUT_GUARD(ZeroOrderResult, 160);
+  ar(r.lobes, r.raw);
+}
+
+}  // namespace lobes
 
 namespace frf {
 

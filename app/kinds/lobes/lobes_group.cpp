@@ -7,6 +7,7 @@
 #include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 #include "analysis/frf/mode.h"
+#include "app/core/archive_analysis.h"
 #include "app/core/format.h"
 #include "app/kinds/cut/cut_summary.h"
 #include "app/kinds/dyno_slot/dyno_slot_kind.h"
@@ -297,6 +298,48 @@ void LobesGroup::run(const CampaignValues& in, const RunContext& ctx, GroupOutco
     return;
   }
   out.status.succeed();
+}
+
+template <class Ar>
+void fields(Ar& ar, MeasuredPoint& p) {
+  LAYOUT_GUARD(MeasuredPoint, 136);
+  ar(p.test, p.spindle_rpm, p.ramp, p.depth_low_m, p.depth_high_m, p.chatter, p.stable_m,
+     p.chatter_m, p.bifurcation_depth_m);
+}
+
+template <class Ar>
+void fields(Ar& ar, Hysteresis& h) {
+  LAYOUT_GUARD(Hysteresis, 88);
+  ar(h.spindle_rpm, h.incline, h.decline, h.onset_m, h.end_m);
+}
+
+template <class Ar>
+void fields(Ar& ar, LobeSource& s) {
+  LAYOUT_GUARD(LobeSource, 704);
+  ar(s.key, s.label, s.note, s.input, s.steps_per_tooth, s.sd, s.zoa, s.at_measured);
+}
+
+template <class Ar>
+void fields(Ar& ar, LobeDiagram& d) {
+  LAYOUT_GUARD(LobeDiagram, 176);
+  ar(d.slug, d.operation, d.radial_immersion_m, d.max_depth_m, d.measured_rpm, d.sources,
+     d.measured, d.hysteresis, d.notes);
+}
+
+template <class Ar>
+void fields(Ar& ar, LobesGroupResult& r) {
+  LAYOUT_GUARD(LobesGroupResult, 32);
+  ar(r.diagrams);
+}
+
+std::string LobesGroup::save(const GroupOutcome& out) const {
+  return to_bytes(out.result_of<LobesGroupResult>());
+}
+
+void LobesGroup::restore(const std::string& bytes, GroupOutcome& out) const {
+  auto r = std::make_unique<LobesGroupResult>();
+  from_bytes(bytes, *r);
+  out.result = std::move(r);
 }
 
 json LobesGroup::results(const GroupOutcome& out) const {

@@ -61,6 +61,9 @@ class LobesGroup : public GroupProduct {
   std::vector<Need> needs(const CampaignSpec&) const override;
   std::vector<std::string> provides(const CampaignSpec&) const override { return {}; }
   void run(const CampaignValues& in, const RunContext& ctx, GroupOutcome& out) const override;
+  bool cacheable() const override { return true; }
+  std::string save(const GroupOutcome& out) const override;
+  void restore(const std::string& bytes, GroupOutcome& out) const override;
   nlohmann::json results(const GroupOutcome& out) const override;
   void figures(const CampaignResults&, const GroupOutcome& out, FigureJobs& jobs) const override;
   nlohmann::json report_section(const CampaignResults& r, const GroupOutcome& out,

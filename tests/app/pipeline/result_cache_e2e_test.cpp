@@ -15,8 +15,8 @@ TEST(ResultCache, RestoredTestsGiveTheSameReport) {
   chatterlab::testing::write_nightly_archive(dir.path() / "archive", dir.path());
   chatterlab::testing::expect_restored_report_equal(
       dir.path() / "archive" / "a", dir.path(),
-      {"tap/x", "tap/y", "dyno/f050", "dyno/f100", "dyno/f150", "group:dyno-slot",
-       "cuts/constant"});
+      {"tap/x", "tap/y", "dyno/f050", "dyno/f100", "dyno/f150", "group:dyno-slot", "cuts/constant",
+       "group:lobes"});
 }
 
 }  // namespace
