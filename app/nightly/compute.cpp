@@ -5,8 +5,10 @@
 #include "analysis/common/summary.h"
 #include "app/cli/exit_codes.h"
 #include "app/cli/output_folder.h"
+#include "app/core/archive.h"
 #include "app/core/checked_write.h"
 #include "app/nightly/compare.h"
+#include "app/nightly/test_cache.h"
 #include "app/report/report.h"
 
 namespace chatterlab::app {
@@ -26,13 +28,15 @@ ComputeOutcome ComputeOutcome::from_json(const nlohmann::json& j) {
 }
 
 ComputeOutcome compute_campaign(const std::filesystem::path& campaign,
-                                const std::filesystem::path& dest, bool pdf, int jobs) {
+                                const std::filesystem::path& dest, bool pdf, int jobs,
+                                ResultCache* cache) {
   ComputeOutcome o;
   std::ostringstream run_log, run_err;
   ReportOptions ro;
   ro.pdf = pdf;
   ro.jobs = jobs;
   ro.errors = &run_err;
+  ro.cache = cache;
   bool started = false;
   ro.before_writing = [&started] { started = true; };
   try {
@@ -73,8 +77,24 @@ int run_nightly_task(const std::filesystem::path& site, std::int64_t run, long l
   std::filesystem::create_directories(out);
   log << "nightly-task " << task << ": " << t.at("path").get<std::string>() << " (" << name << ")"
       << std::endl;
-  const ComputeOutcome o = compute_campaign(t.at("folder").get<std::string>(), out / name,
-                                            plan.at("pdf").get<bool>(), plan.at("jobs").get<int>());
+  std::map<std::string, SiteResultCache::Stored> stored;
+  const std::filesystem::path stored_file = dir / "cache" / (name + ".bin");
+  if (std::filesystem::is_regular_file(stored_file)) {
+    try {
+      from_bytes(read_file_bytes(stored_file), stored);
+    } catch (const InputError& e) {  // damaged: every test computed
+      log << "nightly-task " << task << ": " << e.what() << "\n";
+      stored.clear();
+    }
+  }
+  SiteResultCache cache(t.at("keys").get<std::map<std::string, std::string>>(), std::move(stored));
+  const ComputeOutcome o =
+      compute_campaign(t.at("folder").get<std::string>(), out / name, plan.at("pdf").get<bool>(),
+                       plan.at("jobs").get<int>(), &cache);
+  TaskCache handed{cache.kept(), cache.restored()};
+  const std::filesystem::path cache_tmp = out / ("." + name + ".cache.tmp");
+  write_file_checked(cache_tmp, to_bytes(handed));
+  std::filesystem::rename(cache_tmp, out / (name + ".cache"));
   const std::filesystem::path tmp = out / ("." + name + ".json.tmp");
   write_file_checked(tmp, o.to_json().dump(1) + "\n");
   std::filesystem::rename(tmp, out / (name + ".json"));

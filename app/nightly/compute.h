@@ -9,6 +9,8 @@
 #include <ostream>
 #include <string>
 
+#include "app/pipeline/pipeline.h"
+
 namespace chatterlab::app {
 
 struct ComputeOutcome {
@@ -25,8 +27,10 @@ struct ComputeOutcome {
 // exchanged with it once complete). Bad input (InputError: the campaign that cannot be read, a
 // lock held on `dest`) leaves `dest` as it was, so does any other exception, recorded as
 // internal. Never throws.
+// `cache`: the per-test cache of the run (nullptr: every test is computed).
 ComputeOutcome compute_campaign(const std::filesystem::path& campaign,
-                                const std::filesystem::path& dest, bool pdf, int jobs);
+                                const std::filesystem::path& dest, bool pdf, int jobs,
+                                ResultCache* cache = nullptr);
 
 // The folder of run `run` of a Slurm nightly: <site>/slurm/run-<run>/ (plan.json, the job
 // scripts, logs/, out/).
@@ -35,6 +39,9 @@ std::filesystem::path slurm_run_dir(const std::filesystem::path& site, std::int6
 // `chatterlab nightly-task <site> --run N --task I`, a task of the job array: reports the
 // campaign plan.json lists as task I into out/<name>/ and writes out/<name>.json (the
 // ComputeOutcome, written beside and renamed, so the reduce job reads it whole or not at all).
+// The tests it restores come from <run_dir>/cache/<name>.bin, written at submission; what it
+// computed and restored goes to out/<name>.cache (TaskCache, app/nightly/test_cache.h), before
+// out/<name>.json.
 // Returns 0 once that file is written, whatever the campaign's outcome (the reduce job judges
 // it). @throws InputError when the plan cannot be read or has no task I
 int run_nightly_task(const std::filesystem::path& site, std::int64_t run, long long task,

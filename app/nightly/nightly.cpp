@@ -12,6 +12,7 @@
 #include "app/cli/exit_codes.h"
 #include "app/cli/output_folder.h"
 #include "app/cli/progress.h"
+#include "app/core/archive.h"
 #include "app/core/checked_write.h"
 #include "app/core/format.h"
 #include "app/core/hashing.h"
@@ -19,6 +20,7 @@
 #include "app/nightly/cache_keys.h"
 #include "app/nightly/compute.h"
 #include "app/nightly/site_db.h"
+#include "app/nightly/test_cache.h"
 #include "app/nightly/trends.h"
 #include "app/report/document.h"
 #include "app/report/report.h"
@@ -375,6 +377,26 @@ std::vector<CampaignPlan> plan_campaigns(const fs::path& site, SiteDb& db,
   return plans;
 }
 
+// Every node of a campaign with its cache key: its tests and its groups ("group:<name>").
+std::map<std::string, std::string> node_keys(const CampaignPlan& p) {
+  std::map<std::string, std::string> k = p.tests;
+  k.insert(p.groups.begin(), p.groups.end());
+  return k;
+}
+
+// The kinds' results the site holds for a campaign (app/nightly/test_cache.h), by node.
+std::map<std::string, SiteResultCache::Stored> stored_results(SiteDb& db,
+                                                              const std::string& campaign) {
+  std::map<std::string, SiteResultCache::Stored> out;
+  SiteDb::Statement s(db, "SELECT test, key_sha256, result FROM test_cache WHERE campaign = ?");
+  s.bind(1, campaign);
+  while (s.step()) {
+    if (s.is_null(2)) continue;
+    out[s.text(0)] = {s.text(1), s.blob(2)};
+  }
+  return out;
+}
+
 // The campaign's report of the last run, for the regression flags (null when there is none).
 json previous_results(const fs::path& folder) {
   std::error_code ec;
@@ -391,7 +413,8 @@ json previous_results(const fs::path& folder) {
 // outcome->written). Folders to remove once the index is in place go to `remove_after_index`.
 CampaignState finish_campaign(const fs::path& site, SiteDb& db, std::int64_t run_id,
                               const CampaignPlan& p, const ComputeOutcome* outcome,
-                              const json& previous, const CompareOptions& tolerances,
+                              const SiteResultCache* cache, const json& previous,
+                              const CompareOptions& tolerances,
                               std::vector<fs::path>& remove_after_index) {
   std::error_code ec;
   const fs::path folder = site / "campaigns" / p.name;
@@ -427,7 +450,14 @@ CampaignState finish_campaign(const fs::path& site, SiteDb& db, std::int64_t run
       // place).
       remove_after_index.push_back(folder);
     } else {
-      for (const auto& [t, k] : p.tests) st.recomputed.push_back(t);
+      // The tests restored from the per-test cache were not computed (their keys did not
+      // change); the others were.
+      const std::vector<std::string> restored =
+          cache ? cache->restored() : std::vector<std::string>{};
+      for (const auto& [t, k] : p.tests) {
+        const bool was_restored = std::binary_search(restored.begin(), restored.end(), t);
+        (was_restored ? st.cached : st.recomputed).push_back(t);
+      }
       recomputed_now = true;
       const int rc = outcome->exit_code;
       st.status = rc == kExitOk                ? "ok"
@@ -447,22 +477,41 @@ CampaignState finish_campaign(const fs::path& site, SiteDb& db, std::int64_t run
   st.series = campaign_series(st.results, p.folder, st.name);
   if (!st.flags.empty() && st.exit_code == kExitOk) st.exit_code = kExitFlagged;
 
+  // The kinds' results to keep: computed now or restored (the cache says which), or, for a
+  // campaign left as it was, those the site holds under the same keys.
+  const std::map<std::string, std::string> keys = node_keys(p);
+  std::map<std::string, SiteResultCache::Stored> kept_before;
+  if (outcome == nullptr) kept_before = stored_results(db, st.name);
   SiteDb::Transaction t(db);
   SiteDb::Statement del(db, "DELETE FROM test_cache WHERE campaign = ?");
   del.bind(1, st.name);
   del.step();
   if (!failed) {
-    SiteDb::Statement put(db, "INSERT INTO test_cache VALUES (?, ?, ?, ?, ?)");
-    for (const auto& [test, key] : p.tests) {
+    SiteDb::Statement put(db,
+                          "INSERT INTO test_cache (campaign, test, key_sha256, payload, run_id, "
+                          "result) VALUES (?, ?, ?, ?, ?, ?)");
+    for (const auto& [node, key] : keys) {
       json entry;
       const json& results = st.results;  // read only: no "tests": null inserted
       if (const auto tests = results.is_object() ? results.find("tests") : results.end();
           tests != results.end() && tests->is_object()) {
-        if (const auto it = tests->find(test); it != tests->end()) entry = *it;
+        if (const auto it = tests->find(node); it != tests->end()) entry = *it;
       }
       put.reset();
-      put.bind(1, st.name).bind(2, test).bind(3, key).bind_blob(4, entry.dump());
+      put.bind(1, st.name).bind(2, node).bind(3, key).bind_blob(4, entry.dump());
       put.bind(5, run_id);
+      std::optional<std::string> result;
+      if (cache != nullptr) {
+        result = cache->compressed_to_store(node);
+      } else if (const auto b = kept_before.find(node);
+                 b != kept_before.end() && b->second.key == key) {
+        result = b->second.compressed;
+      }
+      if (result) {
+        put.bind_blob(6, *result);
+      } else {
+        put.bind_null(6);
+      }
       put.step();
     }
   }
@@ -812,12 +861,14 @@ int run_nightly(const fs::path& root, const fs::path& site, const NightlyOptions
           const json previous = previous_results(folder);
           CampaignState st;
           if (p.reusable) {
-            st = finish_campaign(site, db, run_id, p, nullptr, previous, options.tolerances,
-                                 remove_after_index);
+            st = finish_campaign(site, db, run_id, p, nullptr, nullptr, previous,
+                                 options.tolerances, remove_after_index);
           } else {
-            // Recomputed into a temporary folder that replaces its report folder.
-            const ComputeOutcome o = compute_campaign(p.folder, folder, options.pdf, jobs);
-            st = finish_campaign(site, db, run_id, p, &o, previous, options.tolerances,
+            // Recomputed into a temporary folder that replaces its report folder; the tests
+            // whose keys did not change are restored from the per-test cache.
+            SiteResultCache cache(node_keys(p), stored_results(db, p.name));
+            const ComputeOutcome o = compute_campaign(p.folder, folder, options.pdf, jobs, &cache);
+            st = finish_campaign(site, db, run_id, p, &o, &cache, previous, options.tolerances,
                                  remove_after_index);
           }
           exit_code = with_campaign(exit_code, st);
@@ -838,8 +889,17 @@ int run_nightly(const fs::path& root, const fs::path& site, const NightlyOptions
       for (const auto& p : plans) {
         campaigns.push_back(p.to_json());
         if (p.reusable) continue;
-        tasks.push_back(
-            {{"name", p.name}, {"path", p.path}, {"folder", fs::absolute(p.folder).string()}});
+        tasks.push_back({{"name", p.name},
+                         {"path", p.path},
+                         {"folder", fs::absolute(p.folder).string()},
+                         {"keys", node_keys(p)}});
+        // The kinds' results the task may restore, beside the plan (a task does not open the
+        // site's database: the nodes may not share its file locks).
+        const auto stored = stored_results(db, p.name);
+        if (!stored.empty()) {
+          fs::create_directories(run_dir / "cache");
+          write_file_checked(run_dir / "cache" / (p.name + ".bin"), to_bytes(stored));
+        }
       }
       if (!options.tolerances_file.empty()) {
         fs::copy_file(options.tolerances_file, run_dir / "tolerances.yaml",
@@ -934,7 +994,8 @@ int run_nightly_reduce(const fs::path& site, std::int64_t run, const NightlyOpti
         const json previous = previous_results(folder);
         CampaignState st;
         if (p.reusable) {
-          st = finish_campaign(site, db, run, p, nullptr, previous, tolerances, remove_after_index);
+          st = finish_campaign(site, db, run, p, nullptr, nullptr, previous, tolerances,
+                               remove_after_index);
         } else {
           const fs::path staged = run_dir / "out" / p.name;
           const fs::path outcome_file = run_dir / "out" / (p.name + ".json");
@@ -958,7 +1019,19 @@ int run_nightly_reduce(const fs::path& site, std::int64_t run, const NightlyOpti
                   std::string("the staged report could not be put into the site: ") + e.what();
             }
           }
-          st = finish_campaign(site, db, run, p, &o, previous, tolerances, remove_after_index);
+          // What the task restored and computed, for the site's per-test cache.
+          SiteResultCache cache(node_keys(p), stored_results(db, p.name));
+          const fs::path cache_file = run_dir / "out" / (p.name + ".cache");
+          if (o.written && fs::is_regular_file(cache_file, ec)) {
+            TaskCache kept;
+            try {
+              from_bytes(read_file_bytes(cache_file), kept);
+              cache.adopt(std::move(kept.kept), kept.restored);
+            } catch (const InputError&) {  // damaged: nothing kept, computed next time
+            }
+          }
+          st = finish_campaign(site, db, run, p, &o, &cache, previous, tolerances,
+                               remove_after_index);
         }
         exit_code = with_campaign(exit_code, st);
         log_campaign(log, err, i, campaigns.size(), st, seconds_since(tc));
@@ -973,6 +1046,7 @@ int run_nightly_reduce(const fs::path& site, std::int64_t run, const NightlyOpti
           plan.at("started_utc").get<std::string>(), std::max(runtime, seconds_since(t0)), pdf,
           states, remove_after_index, exit_code, tolerances, plan.at("jobs").get<int>(), log, err);
       fs::remove_all(run_dir / "out", ec);
+      fs::remove_all(run_dir / "cache", ec);
     } catch (...) {
       mark_failed(db, run);
       throw;

@@ -107,6 +107,11 @@ CREATE TABLE trend_values (
   hi REAL,
   PRIMARY KEY (run_id, campaign, key)
 );
+)sql",
+      // Version 2: the per-test cache keeps each node's kind result (zlib-compressed bytes,
+      // app/nightly/test_cache.h); NULL where none is kept. Groups have rows too.
+      R"sql(
+ALTER TABLE test_cache ADD COLUMN result BLOB;
 )sql"};
   return m;
 }

@@ -37,7 +37,7 @@ class SiteLock {
 class SiteDb {
  public:
   // The schema this program writes; migrations() holds one step per version.
-  static constexpr int kSchemaVersion = 1;
+  static constexpr int kSchemaVersion = 2;
 
   // Opens or creates the database and migrates it to kSchemaVersion. The version is read again
   // inside the migration's write transaction, so two processes opening a new file at once

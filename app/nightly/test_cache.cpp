@@ -4,6 +4,8 @@
 
 #include <cstdint>
 #include <cstring>
+#include <fstream>
+#include <sstream>
 
 #include "analysis/common/summary.h"
 
@@ -87,6 +89,15 @@ void SiteResultCache::adopt(std::map<std::string, std::string> kept,
   std::lock_guard<std::mutex> lock(mutex_);
   kept_ = std::move(kept);
   restored_ = {restored.begin(), restored.end()};
+}
+
+std::string read_file_bytes(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  if (!in && !in.eof()) throw InputError(file.string() + ": cannot be read");
+  if (!in.is_open()) throw InputError(file.string() + ": cannot be opened");
+  return bytes.str();
 }
 
 }  // namespace chatterlab::app

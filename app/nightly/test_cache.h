@@ -5,6 +5,7 @@
 // and their bytes kept for the database.
 #pragma once
 
+#include <filesystem>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -51,5 +52,24 @@ class SiteResultCache : public ResultCache {
   mutable std::set<std::string> restored_;
   std::map<std::string, std::string> kept_;
 };
+
+template <class Ar>
+void fields(Ar& ar, SiteResultCache::Stored& s) {
+  ar(s.key, s.compressed);
+}
+
+// What a Slurm task hands its reduce job for the per-test cache (<site>/slurm/run-N/out/
+// <name>.cache): the nodes it computed (compressed bytes) and those it restored.
+struct TaskCache {
+  std::map<std::string, std::string> kept;
+  std::vector<std::string> restored;
+};
+template <class Ar>
+void fields(Ar& ar, TaskCache& c) {
+  ar(c.kept, c.restored);
+}
+
+// A whole file as bytes. @throws InputError naming it when it cannot be read
+std::string read_file_bytes(const std::filesystem::path& file);
 
 }  // namespace chatterlab::app

@@ -183,14 +183,18 @@ TEST_F(Nightly, FirstRunNoChangeAndOneTouchedTest) {
   EXPECT_EQ(sha256_file(site / "campaigns/nightly-a/results.json"), a_results);
   EXPECT_EQ(fs::last_write_time(site / "campaigns/nightly-a/results.json"), a_time);
 
-  // tap/x touched: a recomputes (tap/x changed, the cut uses its mode); b stays cached; the
-  // recomputed results equal the first run's, timings aside.
+  // tap/x touched: exactly tap/x and the cut that uses its mode are recomputed, the other
+  // tests of a are restored from the per-test cache; b stays cached; the results equal the
+  // first run's, timings aside.
   std::ofstream(root / "a" / "tap" / "x" / "test.yaml", std::ios::app) << "# touched\n";
   ASSERT_EQ(run(root, site, &log), 1) << log;
   const json third = read_json(site / "nightly.json");
   EXPECT_EQ(strings(third["campaigns"]["nightly-a"]["changed"]),
             (std::vector<std::string>{"cuts/constant", "tap/x"}));
-  EXPECT_EQ(third["campaigns"]["nightly-a"]["recomputed"].size(), 6u);
+  EXPECT_EQ(strings(third["campaigns"]["nightly-a"]["recomputed"]),
+            (std::vector<std::string>{"cuts/constant", "tap/x"}));
+  EXPECT_EQ(strings(third["campaigns"]["nightly-a"]["cached"]),
+            (std::vector<std::string>{"dyno/f050", "dyno/f100", "dyno/f150", "tap/y"}));
   EXPECT_TRUE(third["campaigns"]["nightly-b"]["recomputed"].empty());
   EXPECT_TRUE(third["campaigns"]["nightly-a"]["flags"].empty());
   CompareOptions exact;
@@ -380,11 +384,13 @@ TEST_F(Nightly, AReportPdfNotWrittenExitsOneIsTriedAgainAndLeavesNoOldPdf) {
   EXPECT_FALSE(fs::exists(site / "report.pdf"));
   EXPECT_FALSE(fs::exists(site / "campaigns" / "nightly-b" / "report.pdf"));
 
-  // Nothing changed, but the campaign had no report.pdf: recomputed, now with one.
+  // Nothing changed, but the campaign had no report.pdf: reported again, now with one; its
+  // tests are restored from the per-test cache (no numerical work).
   EXPECT_EQ(run_pdf(false, &log), 0) << log;
   n = read_json(site / "nightly.json");
   EXPECT_EQ(n["campaigns"]["nightly-b"]["status"], "ok") << n;
-  EXPECT_EQ(n["campaigns"]["nightly-b"]["recomputed"].size(), 5u) << n;
+  EXPECT_TRUE(n["campaigns"]["nightly-b"]["recomputed"].empty()) << n;
+  EXPECT_EQ(n["campaigns"]["nightly-b"]["cached"].size(), 5u) << n;
   EXPECT_TRUE(fs::exists(site / "report.pdf"));
   EXPECT_TRUE(fs::exists(site / "campaigns" / "nightly-b" / "report.pdf"));
 

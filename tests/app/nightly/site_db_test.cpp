@@ -137,7 +137,9 @@ TEST(SiteDb, ANewFileGetsTheCurrentSchemaAndKeepsItsRowsWhenReopened) {
       EXPECT_EQ(count(db, t), 0) << t;
     }
     add_run(db, "0.1.0");
-    SiteDb::Statement s(db, "INSERT INTO test_cache VALUES ('demo', 'tap/x', ?, ?, 1)");
+    SiteDb::Statement s(db,
+                        "INSERT INTO test_cache (campaign, test, key_sha256, payload, run_id) "
+                        "VALUES ('demo', 'tap/x', ?, ?, 1)");
     s.bind(1, std::string(64, 'a')).bind_blob(2, std::string("\0\1\2", 3));
     s.step();
   }
@@ -146,6 +148,30 @@ TEST(SiteDb, ANewFileGetsTheCurrentSchemaAndKeepsItsRowsWhenReopened) {
   SiteDb::Statement s(db, "SELECT payload FROM test_cache WHERE test = 'tap/x'");
   ASSERT_TRUE(s.step());
   EXPECT_EQ(s.blob(0), std::string("\0\1\2", 3));
+}
+
+// A site written by the version-1 program (no kind results in its test cache) is migrated in
+// place: its rows stay, the column is added, empty.
+TEST(SiteDb, AVersionOneFileIsMigratedKeepingItsRows) {
+  render::TempDir dir("sitedb");
+  const auto file = dir.path() / "history.sqlite";
+  {
+    SiteDb db(file);
+    add_run(db, "0.1.0");
+    db.exec(
+        "INSERT INTO test_cache (campaign, test, key_sha256, payload, run_id) VALUES ('demo', "
+        "'tap/x', 'k', 'null', 1)");
+    db.exec("ALTER TABLE test_cache DROP COLUMN result; PRAGMA user_version = 1");
+    EXPECT_EQ(db.schema_version(), 1);
+  }
+  SiteDb db(file);
+  EXPECT_EQ(db.schema_version(), 2);
+  SiteDb::Statement s(db, "SELECT test, key_sha256, result IS NULL FROM test_cache");
+  ASSERT_TRUE(s.step());
+  EXPECT_EQ(s.text(0), "tap/x");
+  EXPECT_EQ(s.text(1), "k");
+  EXPECT_EQ(s.integer(2), 1);
+  EXPECT_EQ(count(db, "runs"), 1);
 }
 
 TEST(SiteDb, ANewerSchemaOrAFileThatIsNotADatabaseIsRefusedByName) {
@@ -306,7 +332,7 @@ TEST(SiteDb, ATransactionLeftWithoutCommitIsRolledBack) {
   const auto file = dir.path() / "history.sqlite";
   { SiteDb db(file); }
   SiteDb db(file);
-  EXPECT_EQ(db.schema_version(), 1);
+  EXPECT_EQ(db.schema_version(), SiteDb::kSchemaVersion);
   EXPECT_EQ(SiteDb::migrations().size(), static_cast<std::size_t>(SiteDb::kSchemaVersion));
   {
     SiteDb::Transaction t(db);
