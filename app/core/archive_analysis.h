@@ -271,3 +271,84 @@ void fields(Ar& ar, ModeQuality& q) {
 
 }  // namespace frf
 }  // namespace chatterlab
+
+// ---- sifs, grinding (sifs-static, sifs-tap, sifs-cut, grinding) ------------------------------
+#include "analysis/sifs/calibration.h"
+#include "analysis/sifs/compensator.h"
+#include "analysis/sifs/sensor_model.h"
+#include "analysis/signal/harmonic_fit.h"
+
+namespace chatterlab::sifs {
+
+template <class Ar>
+void fields(Ar& ar, LoadWindow& w) {
+  LAYOUT_GUARD(LoadWindow, 24);
+  ar(w.start_s, w.end_s, w.load_n);
+}
+
+template <class Ar>
+void fields(Ar& ar, StaticReduction& r) {
+  LAYOUT_GUARD(StaticReduction, 288);
+  ar(r.summary, r.axis, r.drift_offset, r.drift_per_s, r.windows, r.s, r.f);
+}
+
+template <class Ar>
+void fields(Ar& ar, CalibrationFit& f) {
+  LAYOUT_GUARD(CalibrationFit, 320);
+  ar(f.summary, f.S, f.C, f.cond_S, f.residuals_n, f.residual_rms_n, f.residual_max_pct, f.windows,
+     f.linearity_pct);
+}
+
+template <class Ar>
+void fields(Ar& ar, TapWindow& w) {
+  LAYOUT_GUARD(TapWindow, 16);
+  ar(w.begin, w.end);
+}
+
+template <class Ar>
+void fields(Ar& ar, SensorMode& m) {
+  LAYOUT_GUARD(SensorMode, 24);
+  ar(m.fn_hz, m.zeta, m.alpha);
+}
+
+template <class Ar>
+void fields(Ar& ar, SensorModel& m) {
+  LAYOUT_GUARD(SensorModel, 144);
+  ar(m.summary, m.modes, m.static_gain, m.fit_nrmse_pct, m.iterations);
+}
+
+template <class Ar>
+void fields(Ar& ar, ScaledModal& r) {
+  LAYOUT_GUARD(ScaledModal, 64);
+  ar(r.A, r.B, r.C, r.cond_A);
+}
+
+template <class Ar>
+void fields(Ar& ar, FrfConfidence& c) {
+  LAYOUT_GUARD(FrfConfidence, 32);
+  ar(c.magnitude_sigma, c.phase_sigma_rad);
+}
+
+template <class Ar>
+void fields(Ar& ar, SweepCurve& c) {
+  LAYOUT_GUARD(SweepCurve, 176);
+  ar(c.summary, c.exponents, c.rmse_n, c.best_exponent, c.q_opt, c.harmonics);
+}
+
+template <class Ar>
+void fields(Ar& ar, TapMap& m) {
+  LAYOUT_GUARD(TapMap, 96);
+  ar(m.rpm, m.exponents, m.rmse_n, m.best_exponent);
+}
+
+}  // namespace chatterlab::sifs
+
+namespace chatterlab::signal {
+
+template <class Ar>
+void fields(Ar& ar, HarmonicFit& h) {
+  LAYOUT_GUARD(HarmonicFit, 168);
+  ar(h.summary, h.fundamental_hz, h.harmonics, h.c0, h.c, h.residual_rms, h.samples);
+}
+
+}  // namespace chatterlab::signal

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "analysis/signal/resample.h"
+#include "app/core/archive_analysis.h"
 #include "app/core/format.h"
 #include "app/core/parallel.h"
 #include "app/kinds/common/conditions.h"
@@ -608,6 +609,34 @@ std::shared_ptr<const KindSpec> SifsCutKind::parse_synth(const YAML::Node& secti
 
 int SifsCutKind::write_synth(const KindSpec& section, SynthContext& ctx) const {
   return write_sifs_synth(section, ctx);
+}
+
+// ---- the per-test cache (app/core/archive.h) -------------------------------------------------
+
+template <class Ar>
+void fields(Ar& ar, SifsAxisResult& a) {
+  LAYOUT_GUARD(SifsAxisResult, 848);
+  ar(a.summary, a.unbalance, a.r_cut_n, a.r_tap_n, a.tap_curve, a.q, a.q_exponent, a.harmonics,
+     a.c_measured, a.c_compensated, a.c_reference, a.rmse_compensated_n, a.rmse_measured_n,
+     a.cut_curve, a.bandwidth_before_hz, a.bandwidth_after_hz, a.cond_F, a.obsv_rcond,
+     a.gain_converged_s, a.warnings, a.measured_n, a.compensated_n, a.reference_n);
+}
+
+template <class Ar>
+void fields(Ar& ar, SifsCutResult& r) {
+  LAYOUT_GUARD(SifsCutResult, 1768);
+  ar(r.spindle_rpm, r.tooth_passing_hz, r.spindle_hz, r.fs_hz, r.filter_rate_hz, r.teeth,
+     r.has_reference, r.axes, r.cut_begin, r.cut_end);
+}
+
+std::string SifsCutKind::save(const TestOutcome& out) const {
+  return to_bytes(out.result_of<SifsCutResult>());
+}
+
+void SifsCutKind::restore(const TestSpec&, const std::string& bytes, TestOutcome& out) const {
+  auto r = std::make_unique<SifsCutResult>();
+  from_bytes(bytes, *r);
+  out.result = std::move(r);
 }
 
 }  // namespace chatterlab::app

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "app/core/archive_analysis.h"
 #include "app/core/format.h"
 #include "app/kinds/sifs/sifs_common.h"
 #include "app/kinds/sifs/sifs_kinds.h"
@@ -397,6 +398,30 @@ json SifsCutGroup::report_section(const CampaignResults&, const GroupOutcome& ou
   }
   return {{"toc", json::array({{{"anchor", "sifs-q"}, {"title", "Spindle sensor: Q tuning"}}})},
           {"sifs_q", d}};
+}
+
+// ---- the per-test cache (app/core/archive.h) -------------------------------------------------
+
+template <class Ar>
+void fields(Ar& ar, SifsCutSummary& s) {
+  LAYOUT_GUARD(SifsCutSummary, 56);
+  ar(s.id, s.spindle_rpm, s.tap_exponent, s.cut_exponent);
+}
+
+template <class Ar>
+void fields(Ar& ar, SifsCutGroupResult& g) {
+  LAYOUT_GUARD(SifsCutGroupResult, 304);
+  ar(g.cuts, g.tap_ids, g.maps, g.filter_rate_hz, g.teeth);
+}
+
+std::string SifsCutGroup::save(const GroupOutcome& out) const {
+  return to_bytes(out.result_of<SifsCutGroupResult>());
+}
+
+void SifsCutGroup::restore(const std::string& bytes, GroupOutcome& out) const {
+  auto r = std::make_unique<SifsCutGroupResult>();
+  from_bytes(bytes, *r);
+  out.result = std::move(r);
 }
 
 }  // namespace chatterlab::app

@@ -170,6 +170,9 @@ class SifsStaticKind : public TestKind {
   void run(const TestSpec& t, const CampaignValues& in, const RunContext& ctx,
            TestOutcome& out) const override;
   void publish(const TestOutcome& out, CampaignValues& values) const override;
+  bool cacheable() const override { return true; }
+  std::string save(const TestOutcome& out) const override;
+  void restore(const TestSpec& t, const std::string& bytes, TestOutcome& out) const override;
   nlohmann::json results(const TestOutcome& out) const override;
   std::string note(const TestOutcome& out) const override;
 };
@@ -183,6 +186,9 @@ class SifsStaticGroup : public GroupProduct {
   std::string describe_value(const std::string& name) const override;
   void run(const CampaignValues& in, const RunContext& ctx, GroupOutcome& out) const override;
   void publish(const GroupOutcome& out, CampaignValues& values) const override;
+  bool cacheable() const override { return true; }
+  std::string save(const GroupOutcome& out) const override;
+  void restore(const std::string& bytes, GroupOutcome& out) const override;
   nlohmann::json results(const GroupOutcome& out) const override;
   void figures(const CampaignResults&, const GroupOutcome& out, FigureJobs& jobs) const override;
   nlohmann::json report_section(const CampaignResults& r, const GroupOutcome& out,
@@ -204,6 +210,9 @@ class SifsTapKind : public TestKind {
   void run(const TestSpec& t, const CampaignValues& in, const RunContext& ctx,
            TestOutcome& out) const override;
   void publish(const TestOutcome& out, CampaignValues& values) const override;
+  bool cacheable() const override { return true; }
+  std::string save(const TestOutcome& out) const override;
+  void restore(const TestSpec& t, const std::string& bytes, TestOutcome& out) const override;
   nlohmann::json results(const TestOutcome& out) const override;
   // <test>/frf.csv and frf.uff: H1, coherence and the fitted sensor model (sifs_tap_kind.cpp).
   void write_files(const TestOutcome& out, const std::filesystem::path& report_dir) const override;
@@ -231,6 +240,9 @@ class SifsCutKind : public TestKind {
   void run(const TestSpec& t, const CampaignValues& in, const RunContext& ctx,
            TestOutcome& out) const override;
   void publish(const TestOutcome& out, CampaignValues& values) const override;
+  bool cacheable() const override { return true; }
+  std::string save(const TestOutcome& out) const override;
+  void restore(const TestSpec& t, const std::string& bytes, TestOutcome& out) const override;
   nlohmann::json results(const TestOutcome& out) const override;
   void write_files(const TestOutcome& out, const std::filesystem::path& report_dir) const override;
   nlohmann::json settings(const CampaignSpec&) const override;
@@ -255,6 +267,9 @@ class SifsCutGroup : public GroupProduct {
   std::vector<std::string> provides(const CampaignSpec&) const override { return {}; }
   void run(const CampaignValues& in, const RunContext& ctx, GroupOutcome& out) const override;
   nlohmann::json results(const GroupOutcome& out) const override;
+  bool cacheable() const override { return true; }
+  std::string save(const GroupOutcome& out) const override;
+  void restore(const std::string& bytes, GroupOutcome& out) const override;
   nlohmann::json settings(const CampaignSpec&) const override;
   void figures(const CampaignResults&, const GroupOutcome& out, FigureJobs& jobs) const override;
   nlohmann::json report_section(const CampaignResults& r, const GroupOutcome& out,

@@ -5,6 +5,7 @@
 #include <map>
 #include <optional>
 
+#include "app/core/archive_analysis.h"
 #include "app/core/format.h"
 #include "app/kinds/sifs/sifs_common.h"
 #include "app/kinds/sifs/sifs_kinds.h"
@@ -396,6 +397,46 @@ void SifsStaticGroup::compare_truth(const TruthInput& in, const std::string&,
                     "group:sifs-static", v, g->fit.C(i, j));
     }
   }
+}
+
+// ---- the per-test cache (app/core/archive.h) -------------------------------------------------
+
+template <class Ar>
+void fields(Ar& ar, SifsCalibration& c) {
+  LAYOUT_GUARD(SifsCalibration, 256);
+  ar(c.C, c.by_length, c.slope_per_mm, c.intercept, c.single_length_mm);
+}
+
+template <class Ar>
+void fields(Ar& ar, SifsStaticResult& r) {
+  LAYOUT_GUARD(SifsStaticResult, 304);
+  ar(r.reduction);
+}
+
+template <class Ar>
+void fields(Ar& ar, SifsStaticGroupResult& g) {
+  LAYOUT_GUARD(SifsStaticGroupResult, 656);
+  ar(g.ids, g.tests, g.fit, g.by_length, g.calibration);
+}
+
+std::string SifsStaticKind::save(const TestOutcome& out) const {
+  return to_bytes(out.result_of<SifsStaticResult>());
+}
+
+void SifsStaticKind::restore(const TestSpec&, const std::string& bytes, TestOutcome& out) const {
+  auto r = std::make_unique<SifsStaticResult>();
+  from_bytes(bytes, *r);
+  out.result = std::move(r);
+}
+
+std::string SifsStaticGroup::save(const GroupOutcome& out) const {
+  return to_bytes(out.result_of<SifsStaticGroupResult>());
+}
+
+void SifsStaticGroup::restore(const std::string& bytes, GroupOutcome& out) const {
+  auto r = std::make_unique<SifsStaticGroupResult>();
+  from_bytes(bytes, *r);
+  out.result = std::move(r);
 }
 
 }  // namespace chatterlab::app

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "analysis/common/constants.h"
+#include "app/core/archive_analysis.h"
 #include "app/core/format.h"
 #include "app/formats/frf_text.h"
 #include "app/formats/uff58.h"
@@ -358,6 +359,31 @@ void SifsTapKind::compare_truth(const TruthInput& in, const TestOutcome& out,
                 r.bandwidth_before_hz);
   const double var = truth_number(v, "noise_var_N2");
   add_truth_row(c, "r_N", id, std::isfinite(var) ? std::sqrt(var) : var, r.frf.r_tap_n);
+}
+
+// ---- the per-test cache (app/core/archive.h) -------------------------------------------------
+
+template <class Ar>
+void fields(Ar& ar, SifsTapData& d) {
+  LAYOUT_GUARD(SifsTapData, 160);
+  ar(d.id, d.axis, d.modes, d.fs_hz, d.hammer_n, d.response_n, d.windows, d.impact, d.r_tap_n);
+}
+
+template <class Ar>
+void fields(Ar& ar, SifsTapResult& r) {
+  LAYOUT_GUARD(SifsTapResult, 488);
+  ar(r.data, r.frf, r.model, r.realization, r.obsv_rcond, r.confidence, r.bandwidth_before_hz,
+     r.antiresonances_hz);
+}
+
+std::string SifsTapKind::save(const TestOutcome& out) const {
+  return to_bytes(out.result_of<SifsTapResult>());
+}
+
+void SifsTapKind::restore(const TestSpec&, const std::string& bytes, TestOutcome& out) const {
+  auto r = std::make_unique<SifsTapResult>();
+  from_bytes(bytes, *r);
+  out.result = std::move(r);
 }
 
 }  // namespace chatterlab::app
