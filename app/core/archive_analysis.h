@@ -273,6 +273,7 @@ void fields(Ar& ar, ModeQuality& q) {
 }  // namespace chatterlab
 
 // ---- sifs, grinding (sifs-static, sifs-tap, sifs-cut, grinding) ------------------------------
+#include "analysis/grinding/multirate_ekf.h"
 #include "analysis/sifs/calibration.h"
 #include "analysis/sifs/compensator.h"
 #include "analysis/sifs/sensor_model.h"
@@ -352,3 +353,34 @@ void fields(Ar& ar, HarmonicFit& h) {
 }
 
 }  // namespace chatterlab::signal
+
+namespace chatterlab::grinding {
+
+template <class Ar>
+void fields(Ar& ar, Inspection& i) {
+  LAYOUT_GUARD(Inspection, 32);
+  ar(i.cycle, i.available_cycle, i.ds_mm, i.Ra_um, i.roundness_um);
+}
+
+template <class Ar>
+void fields(Ar& ar, GrindingEstimate& e) {
+  LAYOUT_GUARD(GrindingEstimate, 80);
+  ar(e.cycle, e.j, e.x, e.three_sigma);
+}
+
+template <class Ar>
+void fields(Ar& ar, CycleEstimate& c) {
+  LAYOUT_GUARD(CycleEstimate, 272);
+  ar(c.posterior, c.ds_prior_mm, c.ds_prior_3sigma_mm, c.Ra_pred_um, c.inspected,
+     c.nis_fast_per_dof, c.nis_inspection_per_dof, c.nis_fast_dof, c.nis_inspection_dof,
+     c.covariance);
+}
+
+template <class Ar>
+void fields(Ar& ar, GrindingRun& r) {
+  LAYOUT_GUARD(GrindingRun, 208);
+  ar(r.id, r.summary, r.states, r.per_cycle, r.trajectory, r.nis_fast_sum, r.nis_fast_dof,
+     r.nis_end_sum, r.nis_end_dof, r.steps, r.replayed_steps);
+}
+
+}  // namespace chatterlab::grinding

@@ -11,6 +11,7 @@
 
 #include "analysis/common/summary.h"
 #include "analysis/grinding/observability.h"
+#include "app/core/archive_analysis.h"
 #include "app/core/format.h"
 #include "app/core/input_boundary.h"
 #include "app/core/parallel.h"
@@ -782,6 +783,36 @@ void GrindingKind::compare_truth(const TruthInput& in, const TestOutcome& out,
       add_truth_row(c, prefix + "R0_um", out.spec->id, R0, last_finite(run.per_cycle, g::kR0));
     }
   }
+}
+
+// ---- the per-test cache (app/core/archive.h) -------------------------------------------------
+
+template <class Ar>
+void fields(Ar& ar, GrindingObservabilityResult& o) {
+  LAYOUT_GUARD(GrindingObservabilityResult, 64);
+  ar(o.ok, o.message, o.min_rank, o.max_rank, o.states, o.points, o.full_rank_points);
+}
+
+template <class Ar>
+void fields(Ar& ar, GrindingEstimatorResult& e) {
+  LAYOUT_GUARD(GrindingEstimatorResult, 288);
+  ar(e.run, e.runtime_s, e.nees_per_dof, e.observability);
+}
+
+template <class Ar>
+void fields(Ar& ar, GrindingResult& r) {
+  LAYOUT_GUARD(GrindingResult, 136);
+  ar(r.cycles, r.n, r.inspections, r.estimators, r.has_truth, r.truth, r.truth_Ra_um);
+}
+
+std::string GrindingKind::save(const TestOutcome& out) const {
+  return to_bytes(out.result_of<GrindingResult>());
+}
+
+void GrindingKind::restore(const TestSpec&, const std::string& bytes, TestOutcome& out) const {
+  auto r = std::make_unique<GrindingResult>();
+  from_bytes(bytes, *r);
+  out.result = std::move(r);
 }
 
 }  // namespace chatterlab::app

@@ -70,6 +70,9 @@ class GrindingKind : public TestKind {
   }
   void run(const TestSpec& t, const CampaignValues& in, const RunContext& ctx,
            TestOutcome& out) const override;
+  bool cacheable() const override { return true; }
+  std::string save(const TestOutcome& out) const override;
+  void restore(const TestSpec& t, const std::string& bytes, TestOutcome& out) const override;
   nlohmann::json results(const TestOutcome& out) const override;
   void write_files(const TestOutcome& out, const std::filesystem::path& report_dir) const override;
   nlohmann::json settings(const CampaignSpec& c) const override;

@@ -29,5 +29,23 @@ TEST(ResultCacheSifs, RestoredSifsTestsAndGroupsGiveTheSameReport) {
        "sifs/tap-y", "sifs/cut-n09000", "group:sifs-cut"});
 }
 
+TEST(ResultCacheGrinding, RestoredGrindingTestGivesTheSameReport) {
+  TempDir dir;
+  const char* spec =
+      "format: chatterlab-synth/1\n"
+      "name: cache-grinding\n"
+      "seed: 11\n"
+      "grinding:\n"
+      "  schedule: [{u_mm_s: 0.0254, rows: 30}, {u_mm_s: 0.002, rows: 10}, {u_mm_s: 0, rows: 10}]\n"
+      "  tests:\n"
+      "    - name: series-a\n"
+      "      cycles: 8\n"
+      "      late: [[3, 5]]\n"
+      "      dressings: [{before_cycle: 6, depth_mm: 0.040, true_depth_mm: 0.0412}]\n";
+  synthesize_campaign(dir.write("spec.yaml", spec), dir.path() / "campaign");
+  chatterlab::testing::expect_restored_report_equal(dir.path() / "campaign", dir.path(),
+                                                    {"grinding/series-a"});
+}
+
 }  // namespace
 }  // namespace chatterlab::app
