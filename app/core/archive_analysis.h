@@ -272,6 +272,149 @@ void fields(Ar& ar, ModeQuality& q) {
 }  // namespace frf
 }  // namespace chatterlab
 
+// ---- forcerec, sysid (dyno-frf, force-record, frf, sweep-frf, spindle-current) --------------
+#include "analysis/forcerec/akf.h"
+#include "analysis/forcerec/deconvolution.h"
+#include "analysis/forcerec/force_metrics.h"
+#include "analysis/forcerec/model.h"
+#include "analysis/forcerec/smo.h"
+#include "analysis/forcerec/transfer_fit.h"
+#include "analysis/sifs/sensor_model.h"
+#include "analysis/sysid/era.h"
+#include "analysis/sysid/state_space.h"
+#include "analysis/sysid/torque_observer.h"
+
+namespace chatterlab::sifs {
+
+template <class Ar>
+void fields(Ar& ar, TapFrf& f) {
+  LAYOUT_GUARD(TapFrf, 192);
+  ar(f.summary, f.f_hz, f.h1, f.coherence, f.hits, f.df_hz, f.impact, f.r_tap_n);
+}
+
+}  // namespace chatterlab::sifs
+
+namespace chatterlab::forcerec {
+
+template <class Ar>
+void fields(Ar& ar, RootPair& p) {
+  LAYOUT_GUARD(RootPair, 32);
+  ar(p.s, p.fn_hz, p.zeta);
+}
+
+template <class Ar>
+void fields(Ar& ar, TransferModel& m) {
+  LAYOUT_GUARD(TransferModel, 104);
+  ar(m.pole_pairs, m.real_poles_rad_s, m.zero_pairs, m.real_zeros_rad_s, m.b1);
+}
+
+template <class Ar>
+void fields(Ar& ar, ContinuousModel& m) {
+  LAYOUT_GUARD(ContinuousModel, 56);
+  ar(m.A, m.B, m.C);
+}
+
+template <class Ar>
+void fields(Ar& ar, TransferFit& f) {
+  LAYOUT_GUARD(TransferFit, 400);
+  ar(f.summary, f.model, f.num, f.den, f.dc_gain, f.fit_pct, f.vf_fit_pct, f.vf_iterations,
+     f.refine_iterations, f.poles_flipped, f.zeros_mirrored, f.realization, f.realization_cond_A,
+     f.band_lo_hz, f.band_hi_hz, f.f_hz, f.H, f.G);
+}
+
+template <class Ar>
+void fields(Ar& ar, IndexWindow& w) {
+  LAYOUT_GUARD(IndexWindow, 16);
+  ar(w.begin, w.end);
+}
+
+template <class Ar>
+void fields(Ar& ar, Harmonics& h) {
+  LAYOUT_GUARD(Harmonics, 32);
+  ar(h.mean_N, h.amplitudes_N);
+}
+
+template <class Ar>
+void fields(Ar& ar, ReferenceError& e) {
+  LAYOUT_GUARD(ReferenceError, 24);
+  ar(e.nrmse_pct, e.fit_pct, e.lag_samples);
+}
+
+template <class Ar>
+void fields(Ar& ar, SampleWindow& w) {
+  LAYOUT_GUARD(SampleWindow, 16);
+  ar(w.begin, w.end);
+}
+
+template <class Ar>
+void fields(Ar& ar, AkfResult& r) {
+  LAYOUT_GUARD(AkfResult, 216);
+  ar(r.summary, r.S_N2, r.R_N2, r.S_from_knee, r.S_grid_N2, r.E, r.knee_index, r.tuning_window,
+     r.tuning_skip, r.spectral_radius, r.modal, r.force);
+}
+
+template <class Ar>
+void fields(Ar& ar, SmoResult& r) {
+  LAYOUT_GUARD(SmoResult, 224);
+  ar(r.summary, r.B2_1_s, r.zeros_rad_s, r.sampled_zeros, r.max_sampled_zero_modulus, r.corner_hz,
+     r.effective_corner_hz, r.reach_ratio, r.delay_samples, r.amplitude_error, r.bandwidth_warning,
+     r.force, r.output_error_N);
+}
+
+template <class Ar>
+void fields(Ar& ar, LCurvePoint& p) {
+  LAYOUT_GUARD(LCurvePoint, 24);
+  ar(p.alpha, p.residual_norm_N, p.solution_norm_N);
+}
+
+template <class Ar>
+void fields(Ar& ar, DeconvolutionResult& r) {
+  LAYOUT_GUARD(DeconvolutionResult, 272);
+  ar(r.force_N, r.alpha, r.rule, r.alpha_discrepancy, r.alpha_gcv, r.alpha_lcurve,
+     r.discrepancy_satisfied, r.discrepancy_target_N2, r.lcurve, r.exact, r.residual_norm_N,
+     r.solution_norm_N, r.relative_residual, r.refinements, r.fft_size, r.tail_length,
+     r.decay_length, r.summary);
+}
+
+}  // namespace chatterlab::forcerec
+
+namespace chatterlab::sysid {
+
+template <class Ar>
+void fields(Ar& ar, DiscreteStateSpace& m) {
+  LAYOUT_GUARD(DiscreteStateSpace, 72);
+  ar(m.A, m.B, m.C, m.D, m.sample_rate_hz);
+}
+
+template <class Ar>
+void fields(Ar& ar, DiscreteMode& m) {
+  LAYOUT_GUARD(DiscreteMode, 32);
+  ar(m.z, m.fn_hz, m.zeta);
+}
+
+template <class Ar>
+void fields(Ar& ar, EraRealization& r) {
+  LAYOUT_GUARD(EraRealization, 208);
+  ar(r.summary, r.model, r.singular_values, r.threshold, r.order_by_threshold, r.hankel_size,
+     r.svd_s);
+}
+
+template <class Ar>
+void fields(Ar& ar, EraResult& r) {
+  LAYOUT_GUARD(EraResult, 512);
+  ar(r.summary, r.realization, r.model, r.unstable_removed, r.decoupling_residual, r.poles, r.modes,
+     r.dc_gain, r.fit_pct, r.fit_f_hz, r.fit_G, r.fit_G_model, r.markov_length, r.runtime_s);
+}
+
+template <class Ar>
+void fields(Ar& ar, TorqueObserver& o) {
+  LAYOUT_GUARD(TorqueObserver, 352);
+  ar(o.summary, o.model, o.A_e, o.C_e, o.K, o.Q_Nm2, o.R_A2, o.dare_residual, o.spectral_radius,
+     o.modal, o.block_size, o.Lambda, o.b_modal, o.c_modal, o.modal_residual);
+}
+
+}  // namespace chatterlab::sysid
+
 // ---- sifs, grinding (sifs-static, sifs-tap, sifs-cut, grinding) ------------------------------
 #include "analysis/grinding/multirate_ekf.h"
 #include "analysis/sifs/calibration.h"

@@ -9,6 +9,7 @@
 #include "app/core/yaml_reader.h"
 #include "app/kinds/common/conditions.h"
 #include "app/kinds/common/frf_figure.h"
+#include "app/kinds/forcerec/forcerec_archive.h"
 #include "app/kinds/forcerec/forcerec_kinds.h"
 #include "app/report/figure_jobs.h"
 #include "app/report/results_json.h"
@@ -145,6 +146,22 @@ void DynoFrfKind::run(const TestSpec& t, const CampaignValues&, const RunContext
   res->model = std::move(m);
   out.result = std::move(res);
   out.status.succeed();
+}
+
+template <class Ar>
+void fields(Ar& ar, DynoFrfResult& r) {
+  LAYOUT_GUARD(DynoFrfResult, 632);
+  ar(r.frf, r.fit, r.band_lo_hz, r.band_hi_hz, r.model);
+}
+
+std::string DynoFrfKind::save(const TestOutcome& out) const {
+  return to_bytes(out.result_of<DynoFrfResult>());
+}
+
+void DynoFrfKind::restore(const TestSpec&, const std::string& bytes, TestOutcome& out) const {
+  auto r = std::make_unique<DynoFrfResult>();
+  from_bytes(bytes, *r);
+  out.result = std::move(r);
 }
 
 void DynoFrfKind::publish(const TestOutcome& out, CampaignValues& values) const {

@@ -11,6 +11,7 @@
 #include "app/core/signals.h"
 #include "app/core/yaml_reader.h"
 #include "app/kinds/common/conditions.h"
+#include "app/kinds/forcerec/forcerec_archive.h"
 #include "app/kinds/forcerec/forcerec_kinds.h"
 #include "app/report/results_json.h"
 
@@ -594,6 +595,44 @@ void ForceRecordKind::run(const TestSpec& t, const CampaignValues& in, const Run
   }
   out.result = std::move(res);
   out.status.succeed();
+}
+
+template <class Ar>
+void fields(Ar& ar, ForceMethodResult& m) {
+  LAYOUT_GUARD(ForceMethodResult, 936);
+  ar(m.id, m.ok, m.message, m.warnings, m.runtime_s, m.force_N, m.samples, m.has_harmonics,
+     m.harmonics, m.error, m.tuning, m.delta_N, m.a22s_1_s, m.akf, m.smo, m.rd);
+}
+
+template <class Ar>
+void fields(Ar& ar, ForceOtherModel& o) {
+  LAYOUT_GUARD(ForceOtherModel, 2840);
+  ar(o.frf_test, o.methods);
+}
+
+template <class Ar>
+void fields(Ar& ar, ForceAxisResult& a) {
+  LAYOUT_GUARD(ForceAxisResult, 3056);
+  ar(a.axis, a.done, a.skip_reason, a.frf_test, a.model, a.noise_var_N2, a.noise_from_air,
+     a.measured_N, a.reference_N, a.measured_harmonics, a.reference_harmonics, a.measured_nrmse_pct,
+     a.methods, a.other_models);
+}
+
+template <class Ar>
+void fields(Ar& ar, ForceRecordResult& r) {
+  LAYOUT_GUARD(ForceRecordResult, 112);
+  ar(r.samples, r.sample_rate_hz, r.tooth_freq_hz, r.harmonic_count, r.teeth, r.cut_begin_s,
+     r.cut_end_s, r.harmonic_window, r.evaluation_window, r.axes);
+}
+
+std::string ForceRecordKind::save(const TestOutcome& out) const {
+  return to_bytes(out.result_of<ForceRecordResult>());
+}
+
+void ForceRecordKind::restore(const TestSpec&, const std::string& bytes, TestOutcome& out) const {
+  auto r = std::make_unique<ForceRecordResult>();
+  from_bytes(bytes, *r);
+  out.result = std::move(r);
 }
 
 json ForceRecordKind::results(const TestOutcome& out) const {

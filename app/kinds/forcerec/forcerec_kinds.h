@@ -69,6 +69,9 @@ class DynoFrfKind : public TestKind {
   void run(const TestSpec& t, const CampaignValues& in, const RunContext& ctx,
            TestOutcome& out) const override;
   void publish(const TestOutcome& out, CampaignValues& values) const override;
+  bool cacheable() const override { return true; }
+  std::string save(const TestOutcome& out) const override;
+  void restore(const TestSpec& t, const std::string& bytes, TestOutcome& out) const override;
   nlohmann::json results(const TestOutcome& out) const override;
   std::string note(const TestOutcome& out) const override;
   void figures(const CampaignResults&, const TestOutcome& out, FigureJobs& jobs) const override;
@@ -177,6 +180,9 @@ class ForceRecordKind : public TestKind {
   std::vector<Need> needs(const TestSpec& t) const override;
   void run(const TestSpec& t, const CampaignValues& in, const RunContext& ctx,
            TestOutcome& out) const override;
+  bool cacheable() const override { return true; }
+  std::string save(const TestOutcome& out) const override;
+  void restore(const TestSpec& t, const std::string& bytes, TestOutcome& out) const override;
   nlohmann::json results(const TestOutcome& out) const override;
   void write_files(const TestOutcome& out, const std::filesystem::path& report_dir) const override;
   std::string note(const TestOutcome& out) const override;
