@@ -2,6 +2,7 @@
 // (001 sec. 3.2). See sysid_kinds.h and docs/sysid.md.
 #include "app/core/signals.h"
 #include "app/core/yaml_reader.h"
+#include "app/kinds/sysid/sysid_archive.h"
 #include "app/kinds/sysid/sysid_kinds.h"
 #include "app/report/figure_jobs.h"
 
@@ -58,6 +59,22 @@ void FrfKind::run(const TestSpec& t, const CampaignValues&, const RunContext&,
   }
   out.result = std::move(res);
   out.status.succeed();
+}
+
+template <class Ar>
+void fields(Ar& ar, FrfResult& r) {
+  LAYOUT_GUARD(FrfResult, 600);
+  ar(r.model);
+}
+
+std::string FrfKind::save(const TestOutcome& out) const {
+  return to_bytes(out.result_of<FrfResult>());
+}
+
+void FrfKind::restore(const TestSpec&, const std::string& bytes, TestOutcome& out) const {
+  auto r = std::make_unique<FrfResult>();
+  from_bytes(bytes, *r);
+  out.result = std::move(r);
 }
 
 void FrfKind::publish(const TestOutcome& out, CampaignValues& values) const {

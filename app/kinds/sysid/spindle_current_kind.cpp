@@ -7,6 +7,7 @@
 
 #include "analysis/common/constants.h"
 #include "analysis/signal/resample.h"
+#include "app/core/archive_analysis.h"
 #include "app/core/format.h"
 #include "app/core/input_boundary.h"
 #include "app/core/signals.h"
@@ -307,6 +308,26 @@ void SpindleCurrentKind::run(const TestSpec& t, const CampaignValues& in, const 
   }
   out.result = std::move(res);
   out.status.succeed();
+}
+
+template <class Ar>
+void fields(Ar& ar, SpindleCurrentResult& r) {
+  LAYOUT_GUARD(SpindleCurrentResult, 528);
+  ar(r.model_id, r.fs_hz, r.friction_current_A, r.observer, r.bandwidth_hz, r.Q_from_cut,
+     r.R_from_resolution, r.helix_deg, r.torque_Nm, r.reference_Nm, r.cut_begin, r.cut_end,
+     r.torque_mean_Nm, r.tooth_pass_amplitude_Nm, r.tooth_pass_hz, r.rmse_Nm, r.nrmse_pct,
+     r.observer_runtime_s);
+}
+
+std::string SpindleCurrentKind::save(const TestOutcome& out) const {
+  return to_bytes(out.result_of<SpindleCurrentResult>());
+}
+
+void SpindleCurrentKind::restore(const TestSpec&, const std::string& bytes,
+                                 TestOutcome& out) const {
+  auto r = std::make_unique<SpindleCurrentResult>();
+  from_bytes(bytes, *r);
+  out.result = std::move(r);
 }
 
 json SpindleCurrentKind::results(const TestOutcome& out) const {

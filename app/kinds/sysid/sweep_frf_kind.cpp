@@ -7,6 +7,7 @@
 #include "app/core/format.h"
 #include "app/core/signals.h"
 #include "app/core/yaml_reader.h"
+#include "app/kinds/sysid/sysid_archive.h"
 #include "app/kinds/sysid/sysid_kinds.h"
 #include "app/report/figure_jobs.h"
 
@@ -181,6 +182,29 @@ void SweepFrfKind::run(const TestSpec& t, const CampaignValues&, const RunContex
   }
   out.result = std::move(res);
   out.status.succeed();
+}
+
+template <class Ar>
+void fields(Ar& ar, SweepFrfs& f) {
+  LAYOUT_GUARD(SweepFrfs, 152);
+  ar(f.f_hz, f.G_o, f.G_loop, f.G_s, f.G_dtau, f.coh_speed, f.coh_current, f.coh_current_act,
+     f.segments, f.band_begin, f.band_end);
+}
+
+template <class Ar>
+void fields(Ar& ar, SweepFrfResult& r) {
+  LAYOUT_GUARD(SweepFrfResult, 760);
+  ar(r.frfs, r.model, r.min_coherence_in_band);
+}
+
+std::string SweepFrfKind::save(const TestOutcome& out) const {
+  return to_bytes(out.result_of<SweepFrfResult>());
+}
+
+void SweepFrfKind::restore(const TestSpec&, const std::string& bytes, TestOutcome& out) const {
+  auto r = std::make_unique<SweepFrfResult>();
+  from_bytes(bytes, *r);
+  out.result = std::move(r);
 }
 
 void SweepFrfKind::publish(const TestOutcome& out, CampaignValues& values) const {

@@ -62,6 +62,9 @@ class FrfKind : public TestKind {
   void run(const TestSpec& t, const CampaignValues& in, const RunContext& ctx,
            TestOutcome& out) const override;
   void publish(const TestOutcome& out, CampaignValues& values) const override;
+  bool cacheable() const override { return true; }
+  std::string save(const TestOutcome& out) const override;
+  void restore(const TestSpec& t, const std::string& bytes, TestOutcome& out) const override;
   nlohmann::json results(const TestOutcome& out) const override;
   std::string note(const TestOutcome& out) const override;
   void figures(const CampaignResults&, const TestOutcome& out, FigureJobs& jobs) const override;
@@ -122,6 +125,9 @@ class SweepFrfKind : public TestKind {
   void run(const TestSpec& t, const CampaignValues& in, const RunContext& ctx,
            TestOutcome& out) const override;
   void publish(const TestOutcome& out, CampaignValues& values) const override;
+  bool cacheable() const override { return true; }
+  std::string save(const TestOutcome& out) const override;
+  void restore(const TestSpec& t, const std::string& bytes, TestOutcome& out) const override;
   nlohmann::json results(const TestOutcome& out) const override;
   std::string note(const TestOutcome& out) const override;
   void figures(const CampaignResults&, const TestOutcome& out, FigureJobs& jobs) const override;
@@ -182,6 +188,9 @@ class SpindleCurrentKind : public TestKind {
   std::vector<Need> needs(const TestSpec& t) const override;
   void run(const TestSpec& t, const CampaignValues& in, const RunContext& ctx,
            TestOutcome& out) const override;
+  bool cacheable() const override { return true; }
+  std::string save(const TestOutcome& out) const override;
+  void restore(const TestSpec& t, const std::string& bytes, TestOutcome& out) const override;
   nlohmann::json results(const TestOutcome& out) const override;
   // torque/<test id, / as _>.csv: t, torque (format section 5).
   void write_files(const TestOutcome& out, const std::filesystem::path& report_dir) const override;
