@@ -8,6 +8,7 @@
 #include "app/core/yaml_reader.h"
 #include "app/kinds/common/conditions.h"
 #include "app/kinds/cut/cut_synth.h"
+#include "app/pipeline/cached_result.h"
 #include "app/synth/synth.h"
 
 namespace chatterlab::app {
@@ -190,14 +191,10 @@ void fields(Ar& ar, CutOutcome& c) {
      c.poincare, c.detector_noise_m, c.estimation);
 }
 
-std::string CutKind::save(const TestOutcome& out) const {
-  return to_bytes(out.result_of<CutOutcome>());
-}
+std::string CutKind::save(const TestOutcome& out) const { return save_result<CutOutcome>(out); }
 
 void CutKind::restore(const TestSpec&, const std::string& bytes, TestOutcome& out) const {
-  auto r = std::make_unique<CutOutcome>();
-  from_bytes(bytes, *r);
-  out.result = std::move(r);
+  restore_result<CutOutcome>(bytes, out);
 }
 
 void CutKind::publish(const TestOutcome& t, CampaignValues& values) const {

@@ -8,6 +8,7 @@
 #include "app/core/yaml_reader.h"
 #include "app/kinds/common/conditions.h"
 #include "app/kinds/dyno_slot/dyno_slot_synth.h"
+#include "app/pipeline/cached_result.h"
 #include "app/pipeline/pipeline.h"
 #include "app/report/figure_jobs.h"
 #include "app/report/results_json.h"
@@ -183,13 +184,11 @@ void fields(Ar& ar, DynoGroupResult& g) {
 }
 
 std::string DynoSlotKind::save(const TestOutcome& out) const {
-  return to_bytes(out.result_of<DynoRecordOutcome>());
+  return save_result<DynoRecordOutcome>(out);
 }
 
 void DynoSlotKind::restore(const TestSpec&, const std::string& bytes, TestOutcome& out) const {
-  auto r = std::make_unique<DynoRecordOutcome>();
-  from_bytes(bytes, *r);
-  out.result = std::move(r);
+  restore_result<DynoRecordOutcome>(bytes, out);
 }
 
 void DynoSlotKind::publish(const TestOutcome& out, CampaignValues& values) const {
@@ -264,13 +263,11 @@ void DynoSlotGroup::publish(const GroupOutcome& out, CampaignValues& values) con
 }
 
 std::string DynoSlotGroup::save(const GroupOutcome& out) const {
-  return to_bytes(out.result_of<DynoGroupResult>());
+  return save_result<DynoGroupResult>(out);
 }
 
 void DynoSlotGroup::restore(const std::string& bytes, GroupOutcome& out) const {
-  auto r = std::make_unique<DynoGroupResult>();
-  from_bytes(bytes, *r);
-  out.result = std::move(r);
+  restore_result<DynoGroupResult>(bytes, out);
 }
 
 json DynoSlotGroup::results(const GroupOutcome& out) const {

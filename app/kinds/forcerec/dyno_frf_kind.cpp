@@ -11,6 +11,7 @@
 #include "app/kinds/common/frf_figure.h"
 #include "app/kinds/forcerec/forcerec_archive.h"
 #include "app/kinds/forcerec/forcerec_kinds.h"
+#include "app/pipeline/cached_result.h"
 #include "app/report/figure_jobs.h"
 #include "app/report/results_json.h"
 #include "app/report/truth.h"
@@ -155,13 +156,11 @@ void fields(Ar& ar, DynoFrfResult& r) {
 }
 
 std::string DynoFrfKind::save(const TestOutcome& out) const {
-  return to_bytes(out.result_of<DynoFrfResult>());
+  return save_result<DynoFrfResult>(out);
 }
 
 void DynoFrfKind::restore(const TestSpec&, const std::string& bytes, TestOutcome& out) const {
-  auto r = std::make_unique<DynoFrfResult>();
-  from_bytes(bytes, *r);
-  out.result = std::move(r);
+  restore_result<DynoFrfResult>(bytes, out);
 }
 
 void DynoFrfKind::publish(const TestOutcome& out, CampaignValues& values) const {

@@ -13,6 +13,7 @@
 #include "app/kinds/common/conditions.h"
 #include "app/kinds/forcerec/forcerec_archive.h"
 #include "app/kinds/forcerec/forcerec_kinds.h"
+#include "app/pipeline/cached_result.h"
 #include "app/report/results_json.h"
 
 namespace chatterlab::app {
@@ -626,13 +627,11 @@ void fields(Ar& ar, ForceRecordResult& r) {
 }
 
 std::string ForceRecordKind::save(const TestOutcome& out) const {
-  return to_bytes(out.result_of<ForceRecordResult>());
+  return save_result<ForceRecordResult>(out);
 }
 
 void ForceRecordKind::restore(const TestSpec&, const std::string& bytes, TestOutcome& out) const {
-  auto r = std::make_unique<ForceRecordResult>();
-  from_bytes(bytes, *r);
-  out.result = std::move(r);
+  restore_result<ForceRecordResult>(bytes, out);
 }
 
 json ForceRecordKind::results(const TestOutcome& out) const {

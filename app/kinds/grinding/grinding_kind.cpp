@@ -17,6 +17,7 @@
 #include "app/core/parallel.h"
 #include "app/core/signals.h"
 #include "app/core/yaml_reader.h"
+#include "app/pipeline/cached_result.h"
 #include "app/report/results_json.h"
 #include "app/report/truth.h"
 
@@ -806,13 +807,11 @@ void fields(Ar& ar, GrindingResult& r) {
 }
 
 std::string GrindingKind::save(const TestOutcome& out) const {
-  return to_bytes(out.result_of<GrindingResult>());
+  return save_result<GrindingResult>(out);
 }
 
 void GrindingKind::restore(const TestSpec&, const std::string& bytes, TestOutcome& out) const {
-  auto r = std::make_unique<GrindingResult>();
-  from_bytes(bytes, *r);
-  out.result = std::move(r);
+  restore_result<GrindingResult>(bytes, out);
 }
 
 }  // namespace chatterlab::app

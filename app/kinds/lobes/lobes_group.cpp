@@ -13,6 +13,7 @@
 #include "app/kinds/dyno_slot/dyno_slot_kind.h"
 #include "app/kinds/tap/tap_kind.h"
 #include "app/lobes/lobes_run.h"
+#include "app/pipeline/cached_result.h"
 #include "app/report/figure_jobs.h"
 
 namespace chatterlab::app {
@@ -333,13 +334,11 @@ void fields(Ar& ar, LobesGroupResult& r) {
 }
 
 std::string LobesGroup::save(const GroupOutcome& out) const {
-  return to_bytes(out.result_of<LobesGroupResult>());
+  return save_result<LobesGroupResult>(out);
 }
 
 void LobesGroup::restore(const std::string& bytes, GroupOutcome& out) const {
-  auto r = std::make_unique<LobesGroupResult>();
-  from_bytes(bytes, *r);
-  out.result = std::move(r);
+  restore_result<LobesGroupResult>(bytes, out);
 }
 
 json LobesGroup::results(const GroupOutcome& out) const {

@@ -11,6 +11,7 @@
 #include "app/kinds/sifs/sifs_common.h"
 #include "app/kinds/sifs/sifs_kinds.h"
 #include "app/kinds/sifs/sifs_synth.h"
+#include "app/pipeline/cached_result.h"
 #include "app/report/results_json.h"
 #include "app/report/truth.h"
 
@@ -630,13 +631,11 @@ void fields(Ar& ar, SifsCutResult& r) {
 }
 
 std::string SifsCutKind::save(const TestOutcome& out) const {
-  return to_bytes(out.result_of<SifsCutResult>());
+  return save_result<SifsCutResult>(out);
 }
 
 void SifsCutKind::restore(const TestSpec&, const std::string& bytes, TestOutcome& out) const {
-  auto r = std::make_unique<SifsCutResult>();
-  from_bytes(bytes, *r);
-  out.result = std::move(r);
+  restore_result<SifsCutResult>(bytes, out);
 }
 
 }  // namespace chatterlab::app

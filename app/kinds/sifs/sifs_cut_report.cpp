@@ -7,6 +7,7 @@
 #include "app/core/format.h"
 #include "app/kinds/sifs/sifs_common.h"
 #include "app/kinds/sifs/sifs_kinds.h"
+#include "app/pipeline/cached_result.h"
 #include "app/report/figure_jobs.h"
 #include "app/report/results_json.h"
 
@@ -415,13 +416,11 @@ void fields(Ar& ar, SifsCutGroupResult& g) {
 }
 
 std::string SifsCutGroup::save(const GroupOutcome& out) const {
-  return to_bytes(out.result_of<SifsCutGroupResult>());
+  return save_result<SifsCutGroupResult>(out);
 }
 
 void SifsCutGroup::restore(const std::string& bytes, GroupOutcome& out) const {
-  auto r = std::make_unique<SifsCutGroupResult>();
-  from_bytes(bytes, *r);
-  out.result = std::move(r);
+  restore_result<SifsCutGroupResult>(bytes, out);
 }
 
 }  // namespace chatterlab::app

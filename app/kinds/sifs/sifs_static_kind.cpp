@@ -9,6 +9,7 @@
 #include "app/core/format.h"
 #include "app/kinds/sifs/sifs_common.h"
 #include "app/kinds/sifs/sifs_kinds.h"
+#include "app/pipeline/cached_result.h"
 #include "app/report/figure_jobs.h"
 #include "app/report/results_json.h"
 #include "app/report/truth.h"
@@ -420,23 +421,19 @@ void fields(Ar& ar, SifsStaticGroupResult& g) {
 }
 
 std::string SifsStaticKind::save(const TestOutcome& out) const {
-  return to_bytes(out.result_of<SifsStaticResult>());
+  return save_result<SifsStaticResult>(out);
 }
 
 void SifsStaticKind::restore(const TestSpec&, const std::string& bytes, TestOutcome& out) const {
-  auto r = std::make_unique<SifsStaticResult>();
-  from_bytes(bytes, *r);
-  out.result = std::move(r);
+  restore_result<SifsStaticResult>(bytes, out);
 }
 
 std::string SifsStaticGroup::save(const GroupOutcome& out) const {
-  return to_bytes(out.result_of<SifsStaticGroupResult>());
+  return save_result<SifsStaticGroupResult>(out);
 }
 
 void SifsStaticGroup::restore(const std::string& bytes, GroupOutcome& out) const {
-  auto r = std::make_unique<SifsStaticGroupResult>();
-  from_bytes(bytes, *r);
-  out.result = std::move(r);
+  restore_result<SifsStaticGroupResult>(bytes, out);
 }
 
 }  // namespace chatterlab::app

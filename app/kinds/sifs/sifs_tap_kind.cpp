@@ -13,6 +13,7 @@
 #include "app/kinds/sifs/sifs_common.h"
 #include "app/kinds/sifs/sifs_kinds.h"
 #include "app/kinds/tap/tap_kind.h"
+#include "app/pipeline/cached_result.h"
 #include "app/report/figure_jobs.h"
 #include "app/report/results_json.h"
 #include "app/report/truth.h"
@@ -377,13 +378,11 @@ void fields(Ar& ar, SifsTapResult& r) {
 }
 
 std::string SifsTapKind::save(const TestOutcome& out) const {
-  return to_bytes(out.result_of<SifsTapResult>());
+  return save_result<SifsTapResult>(out);
 }
 
 void SifsTapKind::restore(const TestSpec&, const std::string& bytes, TestOutcome& out) const {
-  auto r = std::make_unique<SifsTapResult>();
-  from_bytes(bytes, *r);
-  out.result = std::move(r);
+  restore_result<SifsTapResult>(bytes, out);
 }
 
 }  // namespace chatterlab::app

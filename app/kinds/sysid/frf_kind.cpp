@@ -4,6 +4,7 @@
 #include "app/core/yaml_reader.h"
 #include "app/kinds/sysid/sysid_archive.h"
 #include "app/kinds/sysid/sysid_kinds.h"
+#include "app/pipeline/cached_result.h"
 #include "app/report/figure_jobs.h"
 
 namespace chatterlab::app {
@@ -67,14 +68,10 @@ void fields(Ar& ar, FrfResult& r) {
   ar(r.model);
 }
 
-std::string FrfKind::save(const TestOutcome& out) const {
-  return to_bytes(out.result_of<FrfResult>());
-}
+std::string FrfKind::save(const TestOutcome& out) const { return save_result<FrfResult>(out); }
 
 void FrfKind::restore(const TestSpec&, const std::string& bytes, TestOutcome& out) const {
-  auto r = std::make_unique<FrfResult>();
-  from_bytes(bytes, *r);
-  out.result = std::move(r);
+  restore_result<FrfResult>(bytes, out);
 }
 
 void FrfKind::publish(const TestOutcome& out, CampaignValues& values) const {

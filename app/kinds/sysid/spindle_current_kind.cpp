@@ -14,6 +14,7 @@
 #include "app/core/yaml_reader.h"
 #include "app/kinds/common/conditions.h"
 #include "app/kinds/sysid/sysid_kinds.h"
+#include "app/pipeline/cached_result.h"
 #include "app/report/figure_jobs.h"
 #include "app/report/results_json.h"
 #include "app/report/truth.h"
@@ -320,14 +321,12 @@ void fields(Ar& ar, SpindleCurrentResult& r) {
 }
 
 std::string SpindleCurrentKind::save(const TestOutcome& out) const {
-  return to_bytes(out.result_of<SpindleCurrentResult>());
+  return save_result<SpindleCurrentResult>(out);
 }
 
 void SpindleCurrentKind::restore(const TestSpec&, const std::string& bytes,
                                  TestOutcome& out) const {
-  auto r = std::make_unique<SpindleCurrentResult>();
-  from_bytes(bytes, *r);
-  out.result = std::move(r);
+  restore_result<SpindleCurrentResult>(bytes, out);
 }
 
 json SpindleCurrentKind::results(const TestOutcome& out) const {

@@ -9,6 +9,7 @@
 #include "app/core/yaml_reader.h"
 #include "app/kinds/sysid/sysid_archive.h"
 #include "app/kinds/sysid/sysid_kinds.h"
+#include "app/pipeline/cached_result.h"
 #include "app/report/figure_jobs.h"
 
 namespace chatterlab::app {
@@ -198,13 +199,11 @@ void fields(Ar& ar, SweepFrfResult& r) {
 }
 
 std::string SweepFrfKind::save(const TestOutcome& out) const {
-  return to_bytes(out.result_of<SweepFrfResult>());
+  return save_result<SweepFrfResult>(out);
 }
 
 void SweepFrfKind::restore(const TestSpec&, const std::string& bytes, TestOutcome& out) const {
-  auto r = std::make_unique<SweepFrfResult>();
-  from_bytes(bytes, *r);
-  out.result = std::move(r);
+  restore_result<SweepFrfResult>(bytes, out);
 }
 
 void SweepFrfKind::publish(const TestOutcome& out, CampaignValues& values) const {

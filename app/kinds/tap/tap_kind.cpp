@@ -16,6 +16,7 @@
 #include "app/formats/frf_text.h"
 #include "app/formats/uff58.h"
 #include "app/kinds/tap/tap_synth.h"
+#include "app/pipeline/cached_result.h"
 #include "app/report/figure_jobs.h"
 #include "app/report/results_json.h"
 #include "app/report/truth.h"
@@ -338,14 +339,10 @@ void fields(Ar& ar, TapOutcome& o) {
      o.fit_message, o.modes, o.quality, o.fit_nrmse_pct, o.band_lo_hz, o.band_hi_hz, o.fitted);
 }
 
-std::string TapKind::save(const TestOutcome& out) const {
-  return to_bytes(out.result_of<TapOutcome>());
-}
+std::string TapKind::save(const TestOutcome& out) const { return save_result<TapOutcome>(out); }
 
 void TapKind::restore(const TestSpec&, const std::string& bytes, TestOutcome& out) const {
-  auto r = std::make_unique<TapOutcome>();
-  from_bytes(bytes, *r);
-  out.result = std::move(r);
+  restore_result<TapOutcome>(bytes, out);
 }
 
 void TapKind::publish(const TestOutcome& out, CampaignValues& values) const {
