@@ -45,10 +45,14 @@ demo: build
 # report at random moments (CliOut.KilledReport..., 189 s under the sanitizers, 16 s in make
 # test; the writes it interrupts are the ones the other CliOut tests run) and the hysteresis
 # campaign (two 2,000-revolution ramps through report, 10 s in make test; ResultsSchema runs a
-# ramped cut and the lobes group through the binary there).
+# ramped cut and the lobes group through the binary there), the per-test cache over campaign a
+# of the nightly tests (a cut and the lobes reported twice; the cache's code runs there in the
+# smaller ResultCacheSifs/Grinding/ForcerecSysid tests and archive_test) and the Slurm
+# integration test (it runs against the daemons in make test; here it would rerun the same
+# campaigns through the instrumented binary inside Slurm jobs).
 # `make sanitize SANITIZE_SKIP=` runs every test.
 ASAN_BUILD ?= build-asan
-SANITIZE_SKIP ?= Over.*Seeds|ReportBrowser\.|ReportEndToEnd\.DemoCampaignRecoversTruth|EraValidation\.|IdentificationScale\.|CliOut\.KilledReport|LobesHysteresisEndToEnd\.
+SANITIZE_SKIP ?= Over.*Seeds|ReportBrowser\.|ReportEndToEnd\.DemoCampaignRecoversTruth|EraValidation\.|IdentificationScale\.|CliOut\.KilledReport|LobesHysteresisEndToEnd\.|ResultCache\.RestoredTests|NightlySlurm\.
 $(ASAN_BUILD)/CMakeCache.txt:
 	@cmake $(GENERATOR) -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g1" \
 	  -DCMAKE_EXE_LINKER_FLAGS=-fuse-ld=lld -DCHATTERLAB_SANITIZE=ON -DCHATTERLAB_WERROR=OFF \
