@@ -477,20 +477,24 @@ CampaignState finish_campaign(const fs::path& site, SiteDb& db, std::int64_t run
   st.series = campaign_series(st.results, p.folder, st.name);
   if (!st.flags.empty() && st.exit_code == kExitOk) st.exit_code = kExitFlagged;
 
-  // The kinds' results to keep: computed now or restored (the cache says which), or, for a
-  // campaign left as it was, those the site holds under the same keys.
-  const std::map<std::string, std::string> keys = node_keys(p);
-  std::map<std::string, SiteResultCache::Stored> kept_before;
-  if (outcome == nullptr) kept_before = stored_results(db, st.name);
+  // The kinds' results to keep: computed now or restored (the cache says which). A campaign
+  // left as it was keeps its rows as they are (its keys are the stored ones, since its campaign
+  // key is made of them): only the run they were last confirmed in moves.
   SiteDb::Transaction t(db);
-  SiteDb::Statement del(db, "DELETE FROM test_cache WHERE campaign = ?");
-  del.bind(1, st.name);
-  del.step();
-  if (!failed) {
+  if (outcome == nullptr) {
+    SiteDb::Statement touch(db, "UPDATE test_cache SET run_id = ? WHERE campaign = ?");
+    touch.bind(1, run_id).bind(2, st.name);
+    touch.step();
+  } else {
+    SiteDb::Statement del(db, "DELETE FROM test_cache WHERE campaign = ?");
+    del.bind(1, st.name);
+    del.step();
+  }
+  if (outcome != nullptr && !failed) {
     SiteDb::Statement put(db,
                           "INSERT INTO test_cache (campaign, test, key_sha256, payload, run_id, "
                           "result) VALUES (?, ?, ?, ?, ?, ?)");
-    for (const auto& [node, key] : keys) {
+    for (const auto& [node, key] : node_keys(p)) {
       json entry;
       const json& results = st.results;  // read only: no "tests": null inserted
       if (const auto tests = results.is_object() ? results.find("tests") : results.end();
@@ -500,13 +504,8 @@ CampaignState finish_campaign(const fs::path& site, SiteDb& db, std::int64_t run
       put.reset();
       put.bind(1, st.name).bind(2, node).bind(3, key).bind_blob(4, entry.dump());
       put.bind(5, run_id);
-      std::optional<std::string> result;
-      if (cache != nullptr) {
-        result = cache->compressed_to_store(node);
-      } else if (const auto b = kept_before.find(node);
-                 b != kept_before.end() && b->second.key == key) {
-        result = b->second.compressed;
-      }
+      const std::optional<std::string> result =
+          cache != nullptr ? cache->compressed_to_store(node) : std::nullopt;
       if (result) {
         put.bind_blob(6, *result);
       } else {
