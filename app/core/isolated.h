@@ -36,6 +36,39 @@ struct IsolatedOptions {
 // process when other threads exist (isolated.cpp).
 std::string run_isolated(const std::function<std::string()>& work, const IsolatedOptions& options);
 
+// One reader process kept for many requests, for a caller that reads thousands of small files
+// a second (the .mat fuzz target: docs/fuzzing.md, "Speed"), where a fork per read would cost
+// more than the read. The handler, fixed when the worker is made, runs in the worker process on
+// each request's bytes; the process is started on the first call, after one that ended it
+// (a crash, a time limit, a reply past the limit) and after max_requests requests, so that what
+// a damaged file left in a library's state does not last. Each call's outcome is what
+// run_isolated gives for the same work, with the same messages. A failure stays contained, but
+// a request may see state an earlier one left in the process: the program reads with
+// run_isolated, one fresh process per read.
+class IsolatedWorker {
+ public:
+  using Handler = std::function<std::string(const std::string& request)>;
+  IsolatedWorker(Handler handler, std::size_t max_requests);
+  ~IsolatedWorker();
+  IsolatedWorker(const IsolatedWorker&) = delete;
+  IsolatedWorker& operator=(const IsolatedWorker&) = delete;
+
+  // The handler's reply to `request`, computed in the worker process; errors as run_isolated.
+  std::string call(const std::string& request, const IsolatedOptions& options);
+
+  // The worker process's id, or -1 when none is running (for tests).
+  int pid() const { return pid_; }
+
+ private:
+  void start(const IsolatedOptions& options);
+  void stop();  // kills the worker and waits for it
+  Handler handler_;
+  std::size_t max_requests_;
+  std::size_t served_ = 0;  // requests the running process has answered
+  int pid_ = -1;
+  int fd_ = -1;  // this end of the worker's socket
+};
+
 // Little helpers to pass values through the bytes: fixed-width integers and doubles in the
 // machine's byte order (parent and child are the same program), strings with their length.
 class ByteWriter {

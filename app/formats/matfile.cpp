@@ -12,6 +12,8 @@
 #include <fstream>
 #include <memory>
 #include <mutex>
+#include <optional>
+#include <stdexcept>
 #include <string>
 #include <system_error>
 #include <utility>
@@ -418,64 +420,116 @@ Eigen::MatrixXd get_matrix(ByteReader& r) {
   return m;
 }
 
-// After check_header, `read` fills the reply in a reader process and `decode` reads it back.
-template <typename Read, typename Decode>
-auto through_reader(const std::filesystem::path& file, const Read& read, const Decode& decode) {
+// What a reader process is asked: the numeric variables, some variables whole, or one as a
+// vector. Encoded as bytes, so that one kept reader process (set_reader_process_reuse) can take
+// requests made after it started; a process forked per read runs the same serve().
+enum class Op : std::uint64_t { kVariables = 1, kMatrices = 2, kVector = 3 };
+
+struct Request {
+  Op op = Op::kVariables;
+  std::filesystem::path file;
+  std::vector<std::string> names;
+  std::optional<std::size_t> column;
+};
+
+std::string encode(const Request& q) {
+  ByteWriter w;
+  w.u64(static_cast<std::uint64_t>(q.op));
+  w.str(q.file.string());
+  w.u64(q.names.size());
+  for (const auto& n : q.names) w.str(n);
+  w.u64(q.column ? 1 : 0);
+  w.u64(q.column.value_or(0));
+  return w.take();
+}
+
+Request decode(const std::string& bytes) {
+  ByteReader r(bytes, "a .mat reader request");
+  Request q;
+  q.op = static_cast<Op>(r.u64());
+  q.file = r.str();
+  for (std::uint64_t n = r.u64(), i = 0; i < n; ++i) q.names.push_back(r.str());
+  const bool has_column = r.u64() != 0;
+  const std::uint64_t column = r.u64();
+  if (has_column) q.column = static_cast<std::size_t>(column);
+  return q;
+}
+
+// Runs in the reader process: the request's answer as bytes.
+std::string serve(const std::string& request) {
+  const Request q = decode(request);
+  ByteWriter w;
+  switch (q.op) {
+    case Op::kVariables: {
+      const auto vars = numeric_variables_here(q.file);
+      w.u64(vars.size());
+      for (const auto& v : vars) {
+        w.str(v.name);
+        w.u64(v.rows);
+        w.u64(v.cols);
+        w.u64(v.complex ? 1 : 0);
+      }
+      break;
+    }
+    case Op::kMatrices:
+      for (const auto& m : read_matrices_here(q.file, q.names)) put_matrix(w, m);
+      break;
+    case Op::kVector:
+      put_matrix(w, read_vector_here(q.file, q.names.at(0), q.column));
+      break;
+    default:
+      throw std::logic_error("unknown .mat reader request");
+  }
+  return w.take();
+}
+
+// Reads per kept reader process (1: a fresh process per read) and that process.
+std::size_t reads_per_process = 1;
+std::unique_ptr<IsolatedWorker> kept_reader;
+
+// After check_header, the request is answered in a reader process; `decode_reply` reads the
+// answer back.
+template <typename Decode>
+auto through_reader(const Request& q, const Decode& decode_reply) {
   const std::lock_guard<std::recursive_mutex> lock(matio_mutex);
-  check_header(file);
-  const IsolatedOptions options = isolated(file);
-  const std::string bytes = run_isolated(
-      [&] {
-        ByteWriter w;
-        read(w);
-        return w.take();
-      },
-      options);
+  check_header(q.file);
+  const IsolatedOptions options = isolated(q.file);
+  const std::string request = encode(q);
+  std::string bytes;
+  if (reads_per_process > 1) {
+    if (!kept_reader) kept_reader = std::make_unique<IsolatedWorker>(serve, reads_per_process);
+    bytes = kept_reader->call(request, options);
+  } else {
+    bytes = run_isolated([&] { return serve(request); }, options);
+  }
   ByteReader r(bytes, options.what);
-  return decode(r);
+  return decode_reply(r);
 }
 
 }  // namespace
 
 std::vector<Variable> numeric_variables(const std::filesystem::path& file) {
-  return through_reader(
-      file,
-      [&](ByteWriter& w) {
-        const auto vars = numeric_variables_here(file);
-        w.u64(vars.size());
-        for (const auto& v : vars) {
-          w.str(v.name);
-          w.u64(v.rows);
-          w.u64(v.cols);
-          w.u64(v.complex ? 1 : 0);
-        }
-      },
-      [](ByteReader& r) {
-        std::vector<Variable> out;
-        for (std::uint64_t n = r.u64(), i = 0; i < n; ++i) {
-          Variable v;
-          v.name = r.str();
-          v.rows = r.u64();
-          v.cols = r.u64();
-          v.complex = r.u64() != 0;
-          out.push_back(std::move(v));
-        }
-        return out;
-      });
+  return through_reader(Request{Op::kVariables, file, {}, std::nullopt}, [](ByteReader& r) {
+    std::vector<Variable> out;
+    for (std::uint64_t n = r.u64(), i = 0; i < n; ++i) {
+      Variable v;
+      v.name = r.str();
+      v.rows = r.u64();
+      v.cols = r.u64();
+      v.complex = r.u64() != 0;
+      out.push_back(std::move(v));
+    }
+    return out;
+  });
 }
 
 std::vector<Eigen::MatrixXd> read_matrices(const std::filesystem::path& file,
                                            const std::vector<std::string>& names) {
-  return through_reader(
-      file,
-      [&](ByteWriter& w) {
-        for (const auto& m : read_matrices_here(file, names)) put_matrix(w, m);
-      },
-      [&](ByteReader& r) {
-        std::vector<Eigen::MatrixXd> out;
-        for (std::size_t i = 0; i < names.size(); ++i) out.push_back(get_matrix(r));
-        return out;
-      });
+  return through_reader(Request{Op::kMatrices, file, names, std::nullopt}, [&](ByteReader& r) {
+    std::vector<Eigen::MatrixXd> out;
+    for (std::size_t i = 0; i < names.size(); ++i) out.push_back(get_matrix(r));
+    return out;
+  });
 }
 
 Eigen::MatrixXd read_matrix(const std::filesystem::path& file, const std::string& name) {
@@ -484,9 +538,14 @@ Eigen::MatrixXd read_matrix(const std::filesystem::path& file, const std::string
 
 Eigen::VectorXd read_vector(const std::filesystem::path& file, const std::string& name,
                             std::optional<std::size_t> column) {
-  return through_reader(
-      file, [&](ByteWriter& w) { put_matrix(w, read_vector_here(file, name, column)); },
-      [](ByteReader& r) { return Eigen::VectorXd(get_matrix(r).col(0)); });
+  return through_reader(Request{Op::kVector, file, {name}, column},
+                        [](ByteReader& r) { return Eigen::VectorXd(get_matrix(r).col(0)); });
+}
+
+void set_reader_process_reuse(std::size_t reads) {
+  const std::lock_guard<std::recursive_mutex> lock(matio_mutex);
+  reads_per_process = std::max<std::size_t>(reads, 1);
+  kept_reader.reset();
 }
 
 void set_reader_time_limit(std::chrono::milliseconds limit) {

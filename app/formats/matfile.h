@@ -52,6 +52,12 @@ void set_reader_time_limit(std::chrono::milliseconds limit);
 // limit.
 void set_reader_reply_limit(std::size_t bytes);
 
+// How many reads one reader process serves (default 1: a fresh process for every read, as the
+// program reads). The fuzz target, which reads thousands of files a second, keeps one process
+// for 1,000 reads (IsolatedWorker, app/core/isolated.h): a crash there is still an InputError
+// naming the file, and the next read starts another process.
+void set_reader_process_reuse(std::size_t reads);
+
 enum class Version { kV5, kV73 };
 
 // Whether this libmatio writes (and reads) v7.3 files: it was built with HDF5.

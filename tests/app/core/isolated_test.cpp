@@ -3,6 +3,7 @@
 #include "app/core/isolated.h"
 
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -147,6 +148,100 @@ TEST(Isolated, BytesRoundTripAndAShortReplyIsAnError) {
   ByteReader s(cut, "reply");
   s.u64();
   EXPECT_THROW(s.str(), InputError);
+}
+
+// IsolatedWorker: one process answers many requests; each way it can end is the InputError
+// run_isolated gives, and the next call starts another process.
+std::string worker_message(IsolatedWorker& w, const std::string& request,
+                           const IsolatedOptions& o) {
+  try {
+    w.call(request, o);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no InputError";
+  return "";
+}
+
+// The handler's requests: "pid", "echo <text>", "big <n>", "abort", "exit", "sleep", "input",
+// "other".
+std::string handle(const std::string& request) {
+  if (request == "pid") return std::to_string(::getpid());
+  if (request.rfind("echo ", 0) == 0) return request.substr(5);
+  if (request.rfind("big ", 0) == 0) return std::string(std::stoul(request.substr(4)), 'b');
+  if (request == "abort") std::abort();
+  if (request == "exit") ::_exit(7);
+  if (request == "sleep") std::this_thread::sleep_for(std::chrono::seconds(60));
+  if (request == "input") throw InputError("f.mat: variable 'x' is missing");
+  throw std::runtime_error("unknown request " + request);
+}
+
+TEST(IsolatedWorker, OneProcessAnswersRequestsUpToItsCountThenAnother) {
+  IsolatedWorker w(handle, 3);
+  const auto o = named("w.mat: reading");
+  EXPECT_EQ(w.pid(), -1);  // started by the first call
+  const std::string first = w.call("pid", o);
+  EXPECT_NE(first, std::to_string(::getpid()));
+  EXPECT_EQ(std::to_string(w.pid()), first);
+  EXPECT_EQ(w.call("echo abc", o), "abc");
+  // 5 MB with every byte value, whole and in order, then a short one: framing holds.
+  std::string big(5 * 1024 * 1024, '\0');
+  for (std::size_t i = 0; i < big.size(); ++i) big[i] = static_cast<char>(i * 131 % 256);
+  EXPECT_EQ(w.call("echo " + big, o), big);
+  // Three requests served: the fourth goes to a new process.
+  const std::string second = w.call("pid", o);
+  EXPECT_NE(second, first);
+  EXPECT_EQ(w.call("echo ", o), "");
+}
+
+TEST(IsolatedWorker, ErrorsComeBackAsRunIsolatedGivesThemAndTheProcessGoesOn) {
+  IsolatedWorker w(handle, 1000);
+  const auto o = named("w.mat: reading");
+  const std::string pid = w.call("pid", o);
+  EXPECT_EQ(worker_message(w, "input", o), "f.mat: variable 'x' is missing");
+  EXPECT_EQ(worker_message(w, "nonsense", o), "w.mat: reading: unknown request nonsense");
+  EXPECT_EQ(w.call("pid", o), pid);  // an exception does not end the process
+}
+
+TEST(IsolatedWorker, AProcessThatDiesIsAnInputErrorAndTheNextCallStartsAnother) {
+  IsolatedWorker w(handle, 1000);
+  const auto o = named("w.mat: reading");
+  const std::string pid = w.call("pid", o);
+  const std::string aborted = worker_message(w, "abort", o);
+  EXPECT_EQ(aborted.find("w.mat: reading: the reader process was ended by signal 6 (SIGABRT)"), 0u)
+      << aborted;
+  EXPECT_EQ(w.pid(), -1);
+  const std::string after = w.call("pid", o);
+  EXPECT_NE(after, pid);
+  const std::string exited = worker_message(w, "exit", o);
+  EXPECT_EQ(exited.find("w.mat: reading: the reader process failed (exit status 7"), 0u) << exited;
+  EXPECT_EQ(w.call("echo ok", o), "ok");
+  // Killed from outside between two calls: the next request goes to a new process.
+  const std::string victim = w.call("pid", o);
+  ::kill(std::stoi(victim), SIGKILL);
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  EXPECT_EQ(w.call("echo still", o), "still");
+  EXPECT_NE(w.call("pid", o), victim);
+}
+
+TEST(IsolatedWorker, TimeAndReplyLimitsStopTheProcess) {
+  IsolatedWorker w(handle, 1000);
+  IsolatedOptions o = named("h.mat: reading");
+  o.time_limit = std::chrono::milliseconds(300);
+  const std::string pid = w.call("pid", o);
+  EXPECT_EQ(worker_message(w, "sleep", o),
+            "h.mat: reading: not finished after 0.3 s; stopped (a damaged file?)");
+  EXPECT_EQ(w.pid(), -1);
+  EXPECT_NE(w.call("pid", o), pid);
+  // A reply of the limit exactly passes (the status byte counts), one byte more is stopped.
+  IsolatedOptions k = named("k.mat: reading");
+  k.max_reply_bytes = 1 << 20;
+  const std::size_t payload = k.max_reply_bytes - 1;
+  EXPECT_EQ(w.call("big " + std::to_string(payload), k).size(), payload);
+  EXPECT_EQ(worker_message(w, "big " + std::to_string(payload + 1), k),
+            "k.mat: reading: the reader process's reply passed 1048576 bytes; stopped (a "
+            "damaged file declaring a huge array?)");
+  EXPECT_EQ(w.call("echo next", k), "next");
 }
 
 }  // namespace

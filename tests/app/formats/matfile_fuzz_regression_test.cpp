@@ -277,5 +277,58 @@ TEST(MatfileV73, ReaderReplyLimitStopsALargeReply) {
   EXPECT_EQ(read_vector(file, "v").size(), 1000);
 }
 
+// The fuzz target's kept reader process (set_reader_process_reuse): the same values and
+// messages as a process per read, and a damaged file that ends the process (finding 8's, which
+// libhdf5 may crash on) does not spoil the reads after it.
+TEST(MatfileReaderReuse, AKeptReaderProcessReadsAsAProcessPerReadDoes) {
+  const TempDir dir;
+  const auto good = dir.path() / "good.mat";
+  Eigen::MatrixXd m(3, 2);
+  m << 1.5, -2, 3, 4e-9, 5, 6;
+  write_mat(good, {{"M", m}, {"v", Eigen::MatrixXd::Constant(1, 4, 0.25)}});
+  const auto damaged = dir.path() / "finding8.mat";
+  std::filesystem::copy_file(
+      std::filesystem::path(CHATTERLAB_TEST_DATA) / "matfile/finding8_hdf5_heap_overflow.mat",
+      damaged);
+  const auto missing = error_of(dir.path() / "none.mat", 0);
+
+  const auto per_read_vars = numeric_variables(good);
+  const Eigen::VectorXd per_read_column = read_vector(good, "M", 1);
+  std::string per_read_damaged;
+  try {
+    read_vector(damaged, "x");
+  } catch (const InputError& e) {
+    per_read_damaged = e.what();
+  }
+
+  set_reader_process_reuse(1000);
+  for (int round = 0; round < 3; ++round) {
+    const auto vars = numeric_variables(good);
+    ASSERT_EQ(vars.size(), per_read_vars.size());
+    for (std::size_t i = 0; i < vars.size(); ++i) {
+      EXPECT_EQ(vars[i].name, per_read_vars[i].name);
+      EXPECT_EQ(vars[i].rows, per_read_vars[i].rows);
+      EXPECT_EQ(vars[i].cols, per_read_vars[i].cols);
+    }
+    EXPECT_EQ(read_vector(good, "M", 1), per_read_column);  // exact: the same bytes
+    EXPECT_EQ(read_matrix(good, "M"), m);
+    EXPECT_EQ(error_of(dir.path() / "none.mat", 0), missing);
+    try {
+      read_vector(damaged, "x");
+      ADD_FAILURE() << "no InputError reading the damaged file";
+    } catch (const InputError& e) {
+      // The reader may end by a signal or refuse the file: either way the file is named, and
+      // when libhdf5 refuses it cleanly the message is the one a process per read gives.
+      EXPECT_EQ(std::string(e.what()).find(damaged.string() + ": "), 0u) << e.what();
+      if (per_read_damaged.find("reader process") == std::string::npos &&
+          std::string(e.what()).find("reader process") == std::string::npos) {
+        EXPECT_EQ(e.what(), per_read_damaged);
+      }
+    }
+  }
+  set_reader_process_reuse(1);
+  EXPECT_EQ(read_vector(good, "M", 1), per_read_column);
+}
+
 }  // namespace
 }  // namespace chatterlab::app::mat
