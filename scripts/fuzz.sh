@@ -17,7 +17,8 @@
 #
 # Each target starts from its seed corpus fuzz/corpus/<target>/ (read only) and keeps what it
 # finds in <build>/fuzz-corpus/<target>/ (with -f: see above); crashes go to
-# <build>/fuzz-artifacts/<target>/.
+# <build>/fuzz-artifacts/<target>/. Each run adds a line to <build>/fuzz-history.tsv (times,
+# target, commit, seed, corpus folder, executions, exec/s, ok or FAILED).
 # Runs under nice -n 19, one target at a time. Exit status 1 when a target failed; then the
 # end of the output names the finding (libFuzzer's and the sanitizer's summary lines, the top
 # of the stack) and gives the saved input in base64, so that a failure in CI, whose build
@@ -39,7 +40,7 @@ while getopts "t:r:s:fj:b:h" opt; do
     f) fresh=1 ;;
     j) jobs="$OPTARG" ;;
     b) build="$(cd "$(dirname "$OPTARG")" && pwd)/$(basename "$OPTARG")" ;;
-    *) sed -n '2,24p' "$0"; exit 2 ;;
+    *) sed -n '2,25p' "$0"; exit 2 ;;
   esac
 done
 shift $((OPTIND - 1))
@@ -104,6 +105,17 @@ for t in "${targets[@]}"; do
   line="$t: ${execs:-?} executions, ${rate:-?} exec/s, $result"
   echo "$line"
   summary+=("$line")
+  # Every run of a target, one line each, kept across runs: the executions toward a goal such as
+  # issue 16's 10 million add up over runs that continue the same kept corpus.
+  history="$build/fuzz-history.tsv"
+  if [ ! -f "$history" ]; then
+    printf 'started\tended\ttarget\tcommit\tseed\tcorpus\texecutions\texec_per_s\tresult\n' >"$history"
+  fi
+  printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' \
+    "$(date -u -d "@${started[$t]}" +%FT%TZ)" "$(date -u +%FT%TZ)" "$t" \
+    "$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)" \
+    "$(sed -n 's/^INFO: Seed: //p' "$log" | head -1)" "$(basename "$(dirname "$work")")" \
+    "${execs:-?}" "${rate:-?}" "${result%% *}" >>"$history"
 done
 echo "== summary"
 printf '%s\n' "${summary[@]}"
