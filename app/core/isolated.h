@@ -33,7 +33,11 @@ struct IsolatedOptions {
 // The caller must hold whatever locks work() needs: the child has only the calling thread,
 // and must not take a lock another thread may have held at the fork. In a build with GCC's
 // AddressSanitizer (make sanitize), whose allocator is not fork-safe, work() runs in this
-// process when other threads exist (isolated.cpp).
+// process when other threads exist (isolated.cpp). Calls from several threads must be
+// serialized by the caller (the .mat readers hold one lock): a process forked during another
+// call would hold that call's descriptors, and the other call would wait out its time limit.
+// In the child, crash and termination signals take their default action (isolated.cpp,
+// reader_process_signals): a crash is reported as the signal it was.
 std::string run_isolated(const std::function<std::string()>& work, const IsolatedOptions& options);
 
 // One reader process kept for many requests, for a caller that reads thousands of small files

@@ -457,6 +457,7 @@ Request decode(const std::string& bytes) {
 
 // Runs in the reader process: the request's answer as bytes.
 std::string serve(const std::string& request) {
+  matio_said();  // a kept reader process: no message of an earlier file's in this one's
   const Request q = decode(request);
   ByteWriter w;
   switch (q.op) {
@@ -540,6 +541,11 @@ Eigen::VectorXd read_vector(const std::filesystem::path& file, const std::string
                             std::optional<std::size_t> column) {
   return through_reader(Request{Op::kVector, file, {name}, column},
                         [](ByteReader& r) { return Eigen::VectorXd(get_matrix(r).col(0)); });
+}
+
+int kept_reader_process() {
+  const std::lock_guard<std::recursive_mutex> lock(matio_mutex);
+  return kept_reader ? kept_reader->pid() : -1;
 }
 
 void set_reader_process_reuse(std::size_t reads) {

@@ -58,6 +58,10 @@ void set_reader_reply_limit(std::size_t bytes);
 // naming the file, and the next read starts another process.
 void set_reader_process_reuse(std::size_t reads);
 
+// The kept reader process's id; -1 when each read forks its own process, or before the first
+// read (for tests).
+int kept_reader_process();
+
 enum class Version { kV5, kV73 };
 
 // Whether this libmatio writes (and reads) v7.3 files: it was built with HDF5.

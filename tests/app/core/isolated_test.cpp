@@ -4,11 +4,16 @@
 
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -163,6 +168,32 @@ std::string worker_message(IsolatedWorker& w, const std::string& request,
   return "";
 }
 
+// Whether process `pid` (a child of this one) has ended: a zombie, or gone (up to 10 s).
+bool dead(pid_t pid) {
+  for (int i = 0; i < 1000; ++i) {
+    std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+    std::string line;
+    if (!std::getline(stat, line)) return true;
+    const auto paren = line.rfind(')');
+    if (paren != std::string::npos && paren + 2 < line.size() && line[paren + 2] == 'Z') {
+      return true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return false;
+}
+
+// Whether `pid` was waited for already (no zombie left behind).
+bool reaped(pid_t pid) {
+  errno = 0;
+  return ::waitpid(pid, nullptr, WNOHANG) == -1 && errno == ECHILD;
+}
+
+std::size_t open_descriptors() {
+  return static_cast<std::size_t>(std::distance(
+      std::filesystem::directory_iterator("/proc/self/fd"), std::filesystem::directory_iterator()));
+}
+
 // The handler's requests: "pid", "echo <text>", "big <n>", "abort", "exit", "sleep", "input",
 // "other".
 std::string handle(const std::string& request) {
@@ -211,6 +242,7 @@ TEST(IsolatedWorker, AProcessThatDiesIsAnInputErrorAndTheNextCallStartsAnother) 
   EXPECT_EQ(aborted.find("w.mat: reading: the reader process was ended by signal 6 (SIGABRT)"), 0u)
       << aborted;
   EXPECT_EQ(w.pid(), -1);
+  EXPECT_TRUE(reaped(std::stoi(pid)));
   const std::string after = w.call("pid", o);
   EXPECT_NE(after, pid);
   const std::string exited = worker_message(w, "exit", o);
@@ -219,19 +251,22 @@ TEST(IsolatedWorker, AProcessThatDiesIsAnInputErrorAndTheNextCallStartsAnother) 
   // Killed from outside between two calls: the next request goes to a new process.
   const std::string victim = w.call("pid", o);
   ::kill(std::stoi(victim), SIGKILL);
-  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  ASSERT_TRUE(dead(std::stoi(victim)));
   EXPECT_EQ(w.call("echo still", o), "still");
   EXPECT_NE(w.call("pid", o), victim);
+  EXPECT_TRUE(reaped(std::stoi(victim)));
 }
 
 TEST(IsolatedWorker, TimeAndReplyLimitsStopTheProcess) {
   IsolatedWorker w(handle, 1000);
   IsolatedOptions o = named("h.mat: reading");
-  o.time_limit = std::chrono::milliseconds(300);
   const std::string pid = w.call("pid", o);
-  EXPECT_EQ(worker_message(w, "sleep", o),
+  IsolatedOptions short_limit = o;  // only for the call that sleeps: a fork may take longer
+  short_limit.time_limit = std::chrono::milliseconds(300);
+  EXPECT_EQ(worker_message(w, "sleep", short_limit),
             "h.mat: reading: not finished after 0.3 s; stopped (a damaged file?)");
   EXPECT_EQ(w.pid(), -1);
+  EXPECT_TRUE(reaped(std::stoi(pid)));
   EXPECT_NE(w.call("pid", o), pid);
   // A reply of the limit exactly passes (the status byte counts), one byte more is stopped.
   IsolatedOptions k = named("k.mat: reading");
@@ -242,6 +277,27 @@ TEST(IsolatedWorker, TimeAndReplyLimitsStopTheProcess) {
             "k.mat: reading: the reader process's reply passed 1048576 bytes; stopped (a "
             "damaged file declaring a huge array?)");
   EXPECT_EQ(w.call("echo next", k), "next");
+}
+
+// No descriptor and no process is left behind: by calls, by deaths and restarts, or by the
+// worker's end.
+TEST(IsolatedWorker, LeavesNoDescriptorOrProcessBehind) {
+  const std::size_t before = open_descriptors();
+  std::string last;
+  {
+    IsolatedWorker w(handle, 2);
+    const auto o = named("w.mat: reading");
+    for (int i = 0; i < 5; ++i) EXPECT_EQ(w.call("echo x", o), "x");  // two restarts
+    worker_message(w, "abort", o);
+    worker_message(w, "input", o);
+    last = w.call("pid", o);
+    EXPECT_EQ(open_descriptors(), before + 1);  // the running worker's socket
+  }
+  EXPECT_EQ(open_descriptors(), before);
+  EXPECT_TRUE(reaped(std::stoi(last)));
+  for (int i = 0; i < 3; ++i) run_isolated([] { return std::string("y"); }, named("r"));
+  message_of([]() -> std::string { std::abort(); }, named("r"));
+  EXPECT_EQ(open_descriptors(), before);
 }
 
 }  // namespace
