@@ -198,12 +198,10 @@ std::string in_this_process(const std::function<std::string()>& work,
                    std::strerror(err) + ")");
 }
 
-}  // namespace
-
-std::string run_isolated(const std::function<std::string()>& work, const IsolatedOptions& options) {
-  if (kForkOnlySingleThreaded && other_threads()) return in_this_process(work, options);
-  int fds[2];
-  if (::pipe2(fds, O_CLOEXEC) != 0) throw_cannot_start(options, "pipe", errno);
+// Forks a reader process, which runs `body` on its end of the channel (fds[1]) and does not
+// return; here, closes that end and returns the process's id. fds[0] stays this process's.
+template <typename Body>
+pid_t fork_reader(const int (&fds)[2], const IsolatedOptions& options, const Body& body) {
   std::fflush(nullptr);  // no buffered output written twice, by parent and child
   const pid_t pid = ::fork();
   if (pid < 0) {
@@ -214,9 +212,20 @@ std::string run_isolated(const std::function<std::string()>& work, const Isolate
   }
   if (pid == 0) {
     ::close(fds[0]);
-    child(fds[1], work);
+    body(fds[1]);
+    ::_exit(3);  // not reached: body ends the process
   }
   ::close(fds[1]);
+  return pid;
+}
+
+}  // namespace
+
+std::string run_isolated(const std::function<std::string()>& work, const IsolatedOptions& options) {
+  if (kForkOnlySingleThreaded && other_threads()) return in_this_process(work, options);
+  int fds[2];
+  if (::pipe2(fds, O_CLOEXEC) != 0) throw_cannot_start(options, "pipe", errno);
+  const pid_t pid = fork_reader(fds, options, [&](int fd) { child(fd, work); });
 
   std::string reply;
   Got got = Got::kEnd;
@@ -303,20 +312,7 @@ void IsolatedWorker::start(const IsolatedOptions& options) {
   if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0) {
     throw_cannot_start(options, "socketpair", errno);
   }
-  std::fflush(nullptr);
-  const pid_t pid = ::fork();
-  if (pid < 0) {
-    const int err = errno;
-    ::close(fds[0]);
-    ::close(fds[1]);
-    throw_cannot_start(options, "fork", err);
-  }
-  if (pid == 0) {
-    ::close(fds[0]);
-    worker_loop(fds[1], handler_);
-  }
-  ::close(fds[1]);
-  pid_ = pid;
+  pid_ = fork_reader(fds, options, [&](int fd) { worker_loop(fd, handler_); });
   fd_ = fds[0];
   served_ = 0;
 }
