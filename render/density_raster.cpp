@@ -73,12 +73,6 @@ void main() {
 // Weight of one point in the counts buffer with antialias: 16 x 16 bilinear steps.
 constexpr double kAntialiasUnit = 256.0;
 
-std::string str(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
 // How one axis maps to pixels in the shader.
 struct AxisMap {
   double shift = 0.0;  // subtracted on the CPU in double (linear axes: the range's start)
@@ -114,12 +108,12 @@ float stage(T v, const AxisMap& m) {
 
 void check_range(const char* name, const Range& r, bool log) {
   if (!std::isfinite(r.min) || !std::isfinite(r.max) || !(r.max > r.min)) {
-    throw RenderError(std::string("count_density: ") + name + " = [" + str(r.min) + ", " +
-                      str(r.max) + "]: must be finite with max > min");
+    throw RenderError(std::string("count_density: ") + name + " = [" + message_number(r.min) +
+                      ", " + message_number(r.max) + "]: must be finite with max > min");
   }
   if (log && !(r.min > 0.0)) {
-    throw RenderError(std::string("count_density: ") + name + " = [" + str(r.min) + ", " +
-                      str(r.max) + "]: must be > 0 on a log axis");
+    throw RenderError(std::string("count_density: ") + name + " = [" + message_number(r.min) +
+                      ", " + message_number(r.max) + "]: must be > 0 on a log axis");
   }
 }
 
@@ -352,8 +346,9 @@ RgbaImage shade_density(const DensityGrid& grid, const std::string& hex_colour,
   const Rgb colour = parse_colour(hex_colour);
   if (!(style.min_alpha > 0.0 && style.min_alpha <= 1.0 && style.max_alpha >= style.min_alpha &&
         style.max_alpha <= 1.0 && style.full_count >= 0.0)) {
-    throw RenderError("shade_density: alphas [" + str(style.min_alpha) + ", " +
-                      str(style.max_alpha) + "], full_count " + str(style.full_count) +
+    throw RenderError("shade_density: alphas [" + message_number(style.min_alpha) + ", " +
+                      message_number(style.max_alpha) + "], full_count " +
+                      message_number(style.full_count) +
                       ": need 0 < min_alpha <= max_alpha <= 1 and full_count >= 0");
   }
   const double full =

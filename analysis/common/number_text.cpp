@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <sstream>
 
 namespace chatterlab {
 
@@ -15,6 +16,13 @@ std::string significant_text(double v, int digits) {
     std::snprintf(buf, sizeof(buf), "%.*g", digits, v);
   }
   return buf;
+}
+
+std::string stream_text(double v, int precision) {
+  std::ostringstream s;
+  s.precision(precision);
+  s << v;
+  return s.str();
 }
 
 }  // namespace chatterlab

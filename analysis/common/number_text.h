@@ -10,4 +10,8 @@ namespace chatterlab {
 // calls it).
 std::string significant_text(double v, int digits = 4);
 
+// v as an ostream with this precision prints it (printf %.*g; "nan", "inf"): the sync and
+// cutting messages.
+std::string stream_text(double v, int precision = 6);
+
 }  // namespace chatterlab

@@ -5,20 +5,15 @@
 #include <numeric>
 #include <sstream>
 
+#include "analysis/common/angles.h"
 #include "analysis/common/constants.h"
+#include "analysis/common/number_text.h"
 #include "analysis/signal/pulses.h"
 
 namespace chatterlab {
 namespace cutting {
 
 namespace {
-
-double wrap_2pi(double a) {
-  double w = std::fmod(a, kTwoPi);
-  if (w < 0.0) w += kTwoPi;
-  if (w >= kTwoPi) w = 0.0;  // fmod of a tiny negative value rounds up to 2 pi
-  return w;
-}
 
 // D(psi) of dyno_slot.h from phases sorted ascending and prefix sums of the forces in that
 // order (prefix[k] = sum of the first k samples).
@@ -61,13 +56,6 @@ class Demodulator {
   std::vector<double> phase_;
   std::vector<Eigen::Vector2d> prefix_;
 };
-
-std::string fmt(double v, int precision = 6) {
-  std::ostringstream s;
-  s.precision(precision);
-  s << v;
-  return s.str();
-}
 
 // First NaN of a channel: returns false and fills `why` if one is found.
 bool check_finite(const Eigen::Ref<const Eigen::VectorXd>& x, const char* name, std::string* why) {
@@ -158,10 +146,11 @@ SlotRecordResult analyse_slot_record(const Eigen::Ref<const Eigen::VectorXd>& Fx
                                      double spindle_rpm, const DynoOptions& options) {
   validate(options);
   if (!(fs_hz > 0.0) || !std::isfinite(fs_hz)) {
-    throw InputError("analyse_slot_record: fs_hz = " + fmt(fs_hz) + ": must be > 0");
+    throw InputError("analyse_slot_record: fs_hz = " + stream_text(fs_hz) + ": must be > 0");
   }
   if (!(spindle_rpm > 0.0) || !std::isfinite(spindle_rpm)) {
-    throw InputError("analyse_slot_record: spindle_rpm = " + fmt(spindle_rpm) + ": must be > 0");
+    throw InputError("analyse_slot_record: spindle_rpm = " + stream_text(spindle_rpm) +
+                     ": must be > 0");
   }
   if (Fx_N.size() != Fy_N.size() || Fx_N.size() != zero_V.size()) {
     std::ostringstream m;
@@ -180,8 +169,8 @@ SlotRecordResult analyse_slot_record(const Eigen::Ref<const Eigen::VectorXd>& Fx
 
   const double expected = fs_hz * 60.0 / spindle_rpm;  // samples per revolution
   if (expected < options.min_samples_per_revolution) {
-    r.summary.fail("too few samples per revolution: fs_hz * 60 / spindle_rpm = " + fmt(expected) +
-                   " < " + fmt(options.min_samples_per_revolution));
+    r.summary.fail("too few samples per revolution: fs_hz * 60 / spindle_rpm = " +
+                   stream_text(expected) + " < " + stream_text(options.min_samples_per_revolution));
     return r;
   }
 
@@ -190,9 +179,9 @@ SlotRecordResult analyse_slot_record(const Eigen::Ref<const Eigen::VectorXd>& Fx
       signal::rising_edges(zero_V, options.zero_threshold_V, options.zero_hysteresis_V);
   if (edges.empty()) {
     r.summary.fail("no zero-count edges: zero_V never rises through " +
-                   fmt(options.zero_threshold_V) + " V after being below " +
-                   fmt(options.zero_threshold_V - options.zero_hysteresis_V) + " V (max " +
-                   fmt(zero_V.size() > 0 ? zero_V.maxCoeff() : 0.0) + " V)");
+                   stream_text(options.zero_threshold_V) + " V after being below " +
+                   stream_text(options.zero_threshold_V - options.zero_hysteresis_V) + " V (max " +
+                   stream_text(zero_V.size() > 0 ? zero_V.maxCoeff() : 0.0) + " V)");
     return r;
   }
   const int revs = static_cast<int>(edges.size()) - 1;
@@ -205,11 +194,13 @@ SlotRecordResult analyse_slot_record(const Eigen::Ref<const Eigen::VectorXd>& Fx
   for (int k = 0; k < revs; ++k) {
     const double d = edges[static_cast<std::size_t>(k) + 1] - edges[static_cast<std::size_t>(k)];
     if (std::abs(d / expected - 1.0) > options.rpm_tolerance) {
-      r.summary.fail("zero-count edge spacing disagrees with spindle_rpm = " + fmt(spindle_rpm) +
-                     " by more than " + fmt(100.0 * options.rpm_tolerance) + " %: interval " +
-                     std::to_string(k) + " (from sample " +
-                     fmt(edges[static_cast<std::size_t>(k)], 9) + ") is " + fmt(d) + " samples (" +
-                     fmt(fs_hz * 60.0 / d) + " rpm), expected " + fmt(expected) + " samples");
+      r.summary.fail(
+          "zero-count edge spacing disagrees with spindle_rpm = " + stream_text(spindle_rpm) +
+          " by more than " + stream_text(100.0 * options.rpm_tolerance) + " %: interval " +
+          std::to_string(k) + " (from sample " +
+          stream_text(edges[static_cast<std::size_t>(k)], 9) + ") is " + stream_text(d) +
+          " samples (" + stream_text(fs_hz * 60.0 / d) + " rpm), expected " +
+          stream_text(expected) + " samples");
       return r;
     }
   }
@@ -278,8 +269,8 @@ SlotRecordResult analyse_slot_record(const Eigen::Ref<const Eigen::VectorXd>& Fx
 
   if (contrast < options.switching_contrast_warning) {
     r.summary.warnings.push_back(
-        "weak tooth-change signature: |D(theta_dyn)| / mean|F| = " + fmt(contrast, 3) + " < " +
-        fmt(options.switching_contrast_warning, 3) +
+        "weak tooth-change signature: |D(theta_dyn)| / mean|F| = " + stream_text(contrast, 3) +
+        " < " + stream_text(options.switching_contrast_warning, 3) +
         " (not a clean two-tooth slot: air cut, runout or chatter?); theta_dyn is unreliable");
   }
   r.summary.succeed();

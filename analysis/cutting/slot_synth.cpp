@@ -4,6 +4,7 @@
 #include <random>
 #include <sstream>
 
+#include "analysis/common/angles.h"
 #include "analysis/common/constants.h"
 #include "analysis/common/require.h"
 #include "analysis/common/summary.h"
@@ -50,13 +51,6 @@ void validate(const SlotRecordSpec& s) {
   require(s.fs_hz > 0.0 && std::isfinite(s.fs_hz), "fs_hz", s.fs_hz, "must be > 0");
   require(s.duration_s > 0.0 && std::isfinite(s.duration_s), "duration_s", s.duration_s,
           "must be > 0");
-}
-
-// Wrap to [0, 2 pi).
-double wrap_2pi(double a) {
-  double w = std::fmod(a, kTwoPi);
-  if (w < 0.0) w += kTwoPi;
-  return w;
 }
 
 // Trapezoidal pulse of unit height whose rising ramp is centred on tau = 0 (s).

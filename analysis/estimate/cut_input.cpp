@@ -17,51 +17,47 @@ namespace estimate {
 
 namespace {
 
-template <typename T>
-void require(bool rule_holds, const std::string& field, T value, const std::string& rule) {
-  require_rule(rule_holds, field, value, rule);
-}
-
 void require_finite(const Eigen::VectorXd& v, const char* name) {
   for (Eigen::Index i = 0; i < v.size(); ++i) {
     if (!std::isfinite(v[i])) {
-      require(false, std::string("cut.") + name + "[" + std::to_string(i) + "]", v[i],
-              "must be finite");
+      require_rule(false, std::string("cut.") + name + "[" + std::to_string(i) + "]", v[i],
+                   "must be finite");
     }
   }
 }
 
 void validate(const CutSetup& s) {
-  require(s.teeth >= 1 && s.teeth <= milling::kMaxTeeth, "setup.teeth", s.teeth,
-          "must be in [1, " + std::to_string(milling::kMaxTeeth) + "]");
-  require(std::isfinite(s.radius_m) && s.radius_m > 0.0, "setup.radius_m", s.radius_m,
-          "must be > 0");
-  require(std::isfinite(s.spindle_rpm) && s.spindle_rpm > 0.0, "setup.spindle_rpm", s.spindle_rpm,
-          "must be > 0");
-  require(std::isfinite(s.feed_per_tooth_m) && s.feed_per_tooth_m >= 0.0, "setup.feed_per_tooth_m",
-          s.feed_per_tooth_m, "must be >= 0");
-  require(std::isfinite(s.radial_immersion_m) && s.radial_immersion_m > 0.0 &&
-              s.radial_immersion_m <= 2.0 * s.radius_m,
-          "setup.radial_immersion_m", s.radial_immersion_m, "must be in (0, 2 radius_m]");
+  require_rule(s.teeth >= 1 && s.teeth <= milling::kMaxTeeth, "setup.teeth", s.teeth,
+               "must be in [1, " + std::to_string(milling::kMaxTeeth) + "]");
+  require_rule(std::isfinite(s.radius_m) && s.radius_m > 0.0, "setup.radius_m", s.radius_m,
+               "must be > 0");
+  require_rule(std::isfinite(s.spindle_rpm) && s.spindle_rpm > 0.0, "setup.spindle_rpm",
+               s.spindle_rpm, "must be > 0");
+  require_rule(std::isfinite(s.feed_per_tooth_m) && s.feed_per_tooth_m >= 0.0,
+               "setup.feed_per_tooth_m", s.feed_per_tooth_m, "must be >= 0");
+  require_rule(std::isfinite(s.radial_immersion_m) && s.radial_immersion_m > 0.0 &&
+                   s.radial_immersion_m <= 2.0 * s.radius_m,
+               "setup.radial_immersion_m", s.radial_immersion_m, "must be in (0, 2 radius_m]");
 }
 
 void validate(const MeasuredCut& c) {
-  require(std::isfinite(c.time_step_s) && c.time_step_s > 0.0, "cut.time_step_s", c.time_step_s,
-          "must be finite and > 0");
+  require_rule(std::isfinite(c.time_step_s) && c.time_step_s > 0.0, "cut.time_step_s",
+               c.time_step_s, "must be finite and > 0");
   const Eigen::Index n = c.x_m.size();
-  require(c.y_m.size() == n, "cut.y_m.size()", c.y_m.size(),
-          "must equal cut.x_m.size() = " + std::to_string(n));
-  require(c.theta1_rad.size() == n, "cut.theta1_rad.size()", c.theta1_rad.size(),
-          "must equal cut.x_m.size() = " + std::to_string(n));
-  require(c.depth_m.size() == 1 || c.depth_m.size() == n, "cut.depth_m.size()", c.depth_m.size(),
-          "must be 1 (constant depth) or cut.x_m.size() = " + std::to_string(n));
+  require_rule(c.y_m.size() == n, "cut.y_m.size()", c.y_m.size(),
+               "must equal cut.x_m.size() = " + std::to_string(n));
+  require_rule(c.theta1_rad.size() == n, "cut.theta1_rad.size()", c.theta1_rad.size(),
+               "must equal cut.x_m.size() = " + std::to_string(n));
+  require_rule(c.depth_m.size() == 1 || c.depth_m.size() == n, "cut.depth_m.size()",
+               c.depth_m.size(),
+               "must be 1 (constant depth) or cut.x_m.size() = " + std::to_string(n));
   require_finite(c.x_m, "x_m");
   require_finite(c.y_m, "y_m");
   require_finite(c.theta1_rad, "theta1_rad");
   require_finite(c.depth_m, "depth_m");
   for (Eigen::Index i = 0; i < c.depth_m.size(); ++i) {
-    require(c.depth_m[i] >= 0.0, "cut.depth_m[" + std::to_string(i) + "]", c.depth_m[i],
-            "must be >= 0");
+    require_rule(c.depth_m[i] >= 0.0, "cut.depth_m[" + std::to_string(i) + "]", c.depth_m[i],
+                 "must be >= 0");
   }
 }
 
@@ -121,9 +117,9 @@ CutChips::CutChips(const MeasuredCut& cut, const CutSetup& setup) : cut_(cut), m
     delay_frac_ = delay_ - std::floor(delay_);
   }
   first_step_ = delay_frac_ > 0.0 ? delay_int_ + 1 : delay_int_;
-  require(n_ >= first_step_ + 2, "cut.x_m.size()", n_,
-          "must be >= the chip delay tau / T + 2 = " + std::to_string(first_step_ + 2) +
-              " samples (one tooth period plus one filter step)");
+  require_rule(n_ >= first_step_ + 2, "cut.x_m.size()", n_,
+               "must be >= the chip delay tau / T + 2 = " + std::to_string(first_step_ + 2) +
+                   " samples (one tooth period plus one filter step)");
 }
 
 StepChips CutChips::chips(Eigen::Index k) const {

@@ -12,26 +12,27 @@ namespace estimate {
 namespace {
 
 template <typename T>
-void require(bool rule_holds, const char* field, T value, const char* rule) {
+void require_ekf(bool rule_holds, const char* field, T value, const char* rule) {
   require_rule(rule_holds, std::string("ekf.") + field, value, rule);
 }
 
 void require_nonnegative(const char* field, double v) {
-  require(std::isfinite(v) && v >= 0.0, field, v, "must be finite and >= 0");
+  require_ekf(std::isfinite(v) && v >= 0.0, field, v, "must be finite and >= 0");
 }
 void require_positive(const char* field, double v) {
-  require(std::isfinite(v) && v > 0.0, field, v, "must be finite and > 0");
+  require_ekf(std::isfinite(v) && v > 0.0, field, v, "must be finite and > 0");
 }
 void require_discretization(Discretization d) {
-  require(d == Discretization::kForwardEuler || d == Discretization::kSymplecticEuler,
-          "discretization", static_cast<int>(d), "unknown discretization");
+  require_ekf(d == Discretization::kForwardEuler || d == Discretization::kSymplecticEuler,
+              "discretization", static_cast<int>(d), "unknown discretization");
 }
 
 void require_unscented(const kalman::UnscentedOptions& u) {
-  require(std::isfinite(u.alpha) && u.alpha > 0.0, "ukf.alpha", u.alpha, "must be finite and > 0");
-  require(std::isfinite(u.beta), "ukf.beta", u.beta, "must be finite");
+  require_ekf(std::isfinite(u.alpha) && u.alpha > 0.0, "ukf.alpha", u.alpha,
+              "must be finite and > 0");
+  require_ekf(std::isfinite(u.beta), "ukf.beta", u.beta, "must be finite");
   // n + kappa > 0 for the smallest filter (5 states) and every larger one.
-  require(std::isfinite(u.kappa) && u.kappa > -5.0, "ukf.kappa", u.kappa, "must be > -5");
+  require_ekf(std::isfinite(u.kappa) && u.kappa > -5.0, "ukf.kappa", u.kappa, "must be > -5");
 }
 
 }  // namespace
@@ -78,13 +79,13 @@ void validate(const ModalEkfOptions& o) {
   require_unscented(o.ukf);
   // The widest modal UKF has 7 states: its points reach sqrt(alpha^2 (7 + kappa)) sd.
   const double reach = std::sqrt(o.ukf.alpha * o.ukf.alpha * (7.0 + o.ukf.kappa));
-  require(std::isfinite(o.ukf_p0_relative_sd) && o.ukf_p0_relative_sd > 0.0 &&
-              o.ukf_p0_relative_sd * reach < 1.0,
-          "ukf_p0_relative_sd", o.ukf_p0_relative_sd,
-          ("must be > 0 and below 1 / sqrt(alpha^2 (7 + kappa)) = " + std::to_string(1.0 / reach) +
-           " (no sigma point with a negative mass)")
-              .c_str());
-  require(o.history_points >= 2, "history_points", o.history_points, "must be >= 2");
+  require_ekf(std::isfinite(o.ukf_p0_relative_sd) && o.ukf_p0_relative_sd > 0.0 &&
+                  o.ukf_p0_relative_sd * reach < 1.0,
+              "ukf_p0_relative_sd", o.ukf_p0_relative_sd,
+              ("must be > 0 and below 1 / sqrt(alpha^2 (7 + kappa)) = " +
+               std::to_string(1.0 / reach) + " (no sigma point with a negative mass)")
+                  .c_str());
+  require_ekf(o.history_points >= 2, "history_points", o.history_points, "must be >= 2");
 }
 
 void validate(const CoeffEkfOptions& o) {
@@ -98,9 +99,9 @@ void validate(const CoeffEkfOptions& o) {
   require_positive("p0_Kt", o.p0_Kt);
   require_positive("p0_Kr", o.p0_Kr);
   require_unscented(o.ukf);
-  require(o.gate == ToothGate::kEngaged || o.gate == ToothGate::kNone, "gate",
-          static_cast<int>(o.gate), "unknown gate");
-  require(o.history_points >= 2, "history_points", o.history_points, "must be >= 2");
+  require_ekf(o.gate == ToothGate::kEngaged || o.gate == ToothGate::kNone, "gate",
+              static_cast<int>(o.gate), "unknown gate");
+  require_ekf(o.history_points >= 2, "history_points", o.history_points, "must be >= 2");
 }
 
 }  // namespace estimate

@@ -17,16 +17,11 @@ namespace estimate {
 
 namespace {
 
-template <typename T>
-void require(bool rule_holds, const std::string& field, T value, const std::string& rule) {
-  require_rule(rule_holds, field, value, rule);
-}
-
 void require_coefficients(const std::vector<ToothCoefficients>& c, const std::string& name) {
   for (std::size_t i = 0; i < c.size(); ++i) {
     const std::string f = name + "[" + std::to_string(i) + "]";
-    require(std::isfinite(c[i].Kt_N_m2), f + ".Kt_N_m2", c[i].Kt_N_m2, "must be finite");
-    require(std::isfinite(c[i].Kr_N_m2), f + ".Kr_N_m2", c[i].Kr_N_m2, "must be finite");
+    require_rule(std::isfinite(c[i].Kt_N_m2), f + ".Kt_N_m2", c[i].Kt_N_m2, "must be finite");
+    require_rule(std::isfinite(c[i].Kr_N_m2), f + ".Kr_N_m2", c[i].Kr_N_m2, "must be finite");
   }
 }
 
@@ -197,16 +192,17 @@ EkfResult run_single(EstimatorId id, const MeasuredCut& cut, const CutChips& chi
 }
 
 void validate_modal_inputs(const CutSetup& setup, const ModalEkfInputs& in) {
-  require(in.coefficients.size() == static_cast<std::size_t>(setup.teeth),
-          "inputs.coefficients.size()", in.coefficients.size(),
-          "must equal setup.teeth = " + std::to_string(setup.teeth) + " (one Kt, Kr per tooth)");
+  require_rule(
+      in.coefficients.size() == static_cast<std::size_t>(setup.teeth), "inputs.coefficients.size()",
+      in.coefficients.size(),
+      "must equal setup.teeth = " + std::to_string(setup.teeth) + " (one Kt, Kr per tooth)");
   require_coefficients(in.coefficients, "inputs.coefficients");
-  require(std::isfinite(in.start.m_kg) && in.start.m_kg > 0.0, "inputs.start.m_kg", in.start.m_kg,
-          "must be > 0");
-  require(std::isfinite(in.start.c_kg_s) && in.start.c_kg_s >= 0.0, "inputs.start.c_kg_s",
-          in.start.c_kg_s, "must be >= 0");
-  require(std::isfinite(in.start.k_N_m) && in.start.k_N_m > 0.0, "inputs.start.k_N_m",
-          in.start.k_N_m, "must be > 0");
+  require_rule(std::isfinite(in.start.m_kg) && in.start.m_kg > 0.0, "inputs.start.m_kg",
+               in.start.m_kg, "must be > 0");
+  require_rule(std::isfinite(in.start.c_kg_s) && in.start.c_kg_s >= 0.0, "inputs.start.c_kg_s",
+               in.start.c_kg_s, "must be >= 0");
+  require_rule(std::isfinite(in.start.k_N_m) && in.start.k_N_m > 0.0, "inputs.start.k_N_m",
+               in.start.k_N_m, "must be > 0");
 }
 
 template <class Model, bool kUnscented>
@@ -259,15 +255,17 @@ EkfResult run_modal(EstimatorId id, const MeasuredCut& cut, const CutChips& chip
 
 void validate_coeff_inputs(EstimatorId id, const CutSetup& setup, const CoeffEkfInputs& in) {
   const ModalParameters& m = in.modal;
-  require(std::isfinite(m.m_kg) && m.m_kg > 0.0, "inputs.modal.m_kg", m.m_kg, "must be > 0");
-  require(std::isfinite(m.c_kg_s) && m.c_kg_s >= 0.0, "inputs.modal.c_kg_s", m.c_kg_s,
-          "must be >= 0");
-  require(std::isfinite(m.k_N_m) && m.k_N_m > 0.0, "inputs.modal.k_N_m", m.k_N_m, "must be > 0");
+  require_rule(std::isfinite(m.m_kg) && m.m_kg > 0.0, "inputs.modal.m_kg", m.m_kg, "must be > 0");
+  require_rule(std::isfinite(m.c_kg_s) && m.c_kg_s >= 0.0, "inputs.modal.c_kg_s", m.c_kg_s,
+               "must be >= 0");
+  require_rule(std::isfinite(m.k_N_m) && m.k_N_m > 0.0, "inputs.modal.k_N_m", m.k_N_m,
+               "must be > 0");
   if (structure_of(id) == EstimatorId::kCoeffXy) {
-    require(in.start.size() == 1, "inputs.start.size()", in.start.size(),
-            std::string("must be 1 for ") + estimator_name(id) + " (one Kt, Kr for every tooth)");
+    require_rule(
+        in.start.size() == 1, "inputs.start.size()", in.start.size(),
+        std::string("must be 1 for ") + estimator_name(id) + " (one Kt, Kr for every tooth)");
   } else {
-    require(
+    require_rule(
         in.start.size() == static_cast<std::size_t>(setup.teeth), "inputs.start.size()",
         in.start.size(),
         "must equal setup.teeth = " + std::to_string(setup.teeth) + " for " + estimator_name(id));
@@ -511,7 +509,7 @@ std::vector<std::string> estimate_keys(EstimatorId id, int teeth) {
     for (int j = 0; j < e.key_count; ++j) keys.emplace_back(e.keys[static_cast<std::size_t>(j)]);
     return keys;
   }
-  require(teeth >= 1, "estimate_keys: teeth", teeth, "must be >= 1");
+  require_rule(teeth >= 1, "estimate_keys: teeth", teeth, "must be >= 1");
   for (int p = 1; p <= teeth; ++p) {
     for (int j = 0; j < e.key_count; ++j) {
       keys.push_back(e.keys[static_cast<std::size_t>(j)] + std::to_string(p) + "_N_m2");
@@ -529,7 +527,7 @@ double EkfResult::value(const std::string& key) const {
 
 EkfResult ekf_modal(EstimatorId id, const MeasuredCut& cut, const CutSetup& setup,
                     const ModalEkfInputs& inputs, const ModalEkfOptions& options) {
-  require(is_modal(id), "estimator", estimator_name(id), "is not a modal-parameter filter");
+  require_rule(is_modal(id), "estimator", estimator_name(id), "is not a modal-parameter filter");
   validate(options);
   const CutChips chips(cut, setup);
   validate_modal_inputs(setup, inputs);
@@ -552,7 +550,8 @@ EkfResult ekf_modal(EstimatorId id, const MeasuredCut& cut, const CutSetup& setu
 
 EkfResult ekf_coeff(EstimatorId id, const MeasuredCut& cut, const CutSetup& setup,
                     const CoeffEkfInputs& inputs, const CoeffEkfOptions& options) {
-  require(!is_modal(id), "estimator", estimator_name(id), "is not a cutting-coefficient filter");
+  require_rule(!is_modal(id), "estimator", estimator_name(id),
+               "is not a cutting-coefficient filter");
   validate(options);
   const CutChips chips(cut, setup);
   validate_coeff_inputs(id, setup, inputs);

@@ -13,11 +13,6 @@ namespace estimate {
 
 namespace {
 
-template <typename T>
-void require(bool rule_holds, const std::string& field, T value, const std::string& rule) {
-  require_rule(rule_holds, field, value, rule);
-}
-
 template <class Model>
 ObservabilityResult rank_of(const Eigen::VectorXd& state_in, const ForceInput& input,
                             const ModalParameters& held, double T,
@@ -28,8 +23,8 @@ ObservabilityResult rank_of(const Eigen::VectorXd& state_in, const ForceInput& i
   const Model model(T, Discretization::kForwardEuler, held);
   const typename Model::State x = state_in;
   const double m = model.mass(x), k = model.stiffness(x);
-  require(std::isfinite(m) && m > 0.0, "observability: m", m, "must be > 0");
-  require(std::isfinite(k) && k > 0.0, "observability: k", k, "must be > 0");
+  require_rule(std::isfinite(m) && m > 0.0, "observability: m", m, "must be > 0");
+  require_rule(std::isfinite(k) && k > 0.0, "observability: k", k, "must be > 0");
   const double wn = std::sqrt(k / m);
 
   typename Model::StateMatrix F;
@@ -79,17 +74,18 @@ ObservabilityResult rank_of(const Eigen::VectorXd& state_in, const ForceInput& i
 ObservabilityResult observability(EstimatorId id, const Eigen::VectorXd& state,
                                   const ForceInput& input, const ModalParameters& held,
                                   double time_step_s, const ObservabilityOptions& options) {
-  require(state.size() == estimator_states(id), "observability: state.size()", state.size(),
-          std::string("must be ") + std::to_string(estimator_states(id)) + " for " +
-              estimator_name(id));
-  require(state.allFinite(), "observability: state", "non-finite", "must be finite");
-  require(std::isfinite(time_step_s) && time_step_s > 0.0, "observability: time_step_s",
-          time_step_s, "must be > 0");
-  require(options.form == ObservabilityForm::kContinuous ||
-              options.form == ObservabilityForm::kDiscreteEq4_33,
-          "observability: form", static_cast<int>(options.form), "unknown form");
-  require(options.relative_tolerance > 0.0 && options.relative_tolerance < 1.0,
-          "observability: relative_tolerance", options.relative_tolerance, "must be in (0, 1)");
+  require_rule(state.size() == estimator_states(id), "observability: state.size()", state.size(),
+               std::string("must be ") + std::to_string(estimator_states(id)) + " for " +
+                   estimator_name(id));
+  require_rule(state.allFinite(), "observability: state", "non-finite", "must be finite");
+  require_rule(std::isfinite(time_step_s) && time_step_s > 0.0, "observability: time_step_s",
+               time_step_s, "must be > 0");
+  require_rule(options.form == ObservabilityForm::kContinuous ||
+                   options.form == ObservabilityForm::kDiscreteEq4_33,
+               "observability: form", static_cast<int>(options.form), "unknown form");
+  require_rule(options.relative_tolerance > 0.0 && options.relative_tolerance < 1.0,
+               "observability: relative_tolerance", options.relative_tolerance,
+               "must be in (0, 1)");
   switch (structure_of(id)) {  // the UKFs share their EKF twin's model
     case EstimatorId::kModalX:
       return rank_of<ModalXModel>(state, input, held, time_step_s, options);

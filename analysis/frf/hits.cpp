@@ -13,7 +13,7 @@ namespace {
 
 constexpr double kMadToStd = 1.4826;  // std of a Gaussian = 1.4826 MAD
 
-std::string fmt(const char* format, double value) {
+std::string format1(const char* format, double value) {
   char buf[64];
   std::snprintf(buf, sizeof buf, format, value);
   return buf;
@@ -103,9 +103,9 @@ std::string clipping(const Eigen::Ref<const Eigen::VectorXd>& x, double hi, doub
         Eigen::Index j = i;
         while (j + 1 < to && std::abs(x[j + 1] - extreme) <= tol) ++j;
         const Eigen::Index first = i - run + 1;
-        return std::string("clipped: ") + channel + " flat at its extreme " + fmt("%.6g", extreme) +
-               " for " + std::to_string(j - first + 1) +
-               " samples from t = " + fmt("%.6f", static_cast<double>(first) / fs_hz) + " s";
+        return std::string("clipped: ") + channel + " flat at its extreme " +
+               format1("%.6g", extreme) + " for " + std::to_string(j - first + 1) +
+               " samples from t = " + format1("%.6f", static_cast<double>(first) / fs_hz) + " s";
       }
     }
   }
@@ -140,7 +140,8 @@ void judge(const Eigen::Ref<const Eigen::VectorXd>& force,
     for (const Pulse& p : pulses) {
       if (p.trigger > hit.trigger && p.trigger < hit.end) {
         hit.rejection =
-            "double hit at t = " + fmt("%.6f", static_cast<double>(p.trigger) / set->fs_hz) + " s";
+            "double hit at t = " + format1("%.6f", static_cast<double>(p.trigger) / set->fs_hz) +
+            " s";
         break;
       }
     }
@@ -154,7 +155,8 @@ void judge(const Eigen::Ref<const Eigen::VectorXd>& force,
   for (size_t i = 0; i < set->hits.size(); ++i) {
     const Hit& hit = set->hits[i];
     if (hit.accepted) continue;
-    const std::string line = "hit " + std::to_string(i + 1) + " at t = " + fmt("%.6f", hit.time_s) +
+    const std::string line = "hit " + std::to_string(i + 1) +
+                             " at t = " + format1("%.6f", hit.time_s) +
                              " s rejected: " + hit.rejection;
     set->summary.warnings.push_back(line);
     reasons += (reasons.empty() ? "" : "; ") + line;
@@ -182,13 +184,13 @@ HitSet detect_hits(const Eigen::Ref<const Eigen::VectorXd>& force,
   double largest_dip = 0.0;
   HitSet set = baseline_and_threshold(force, response, fs_hz, o, &largest_peak, &largest_dip);
   if (!(largest_peak >= set.threshold_n) || !(set.threshold_n > 0.0)) {
-    std::string why = "no hit above threshold: largest force peak " + fmt("%.4g", largest_peak) +
-                      " N above the baseline " + fmt("%.4g", set.force_baseline_n) +
-                      " N is below the threshold " + fmt("%.4g", set.threshold_n) + " N (" +
-                      fmt("%g", o.noise_multiple) + " x noise std " +
-                      fmt("%.4g", set.force_noise_n) + " N)";
+    std::string why = "no hit above threshold: largest force peak " +
+                      format1("%.4g", largest_peak) + " N above the baseline " +
+                      format1("%.4g", set.force_baseline_n) + " N is below the threshold " +
+                      format1("%.4g", set.threshold_n) + " N (" + format1("%g", o.noise_multiple) +
+                      " x noise std " + format1("%.4g", set.force_noise_n) + " N)";
     if (largest_dip > 2.0 * std::max(largest_peak, 0.0) && largest_dip >= set.threshold_n) {
-      why += "; the force has a negative pulse of -" + fmt("%.4g", largest_dip) +
+      why += "; the force has a negative pulse of -" + format1("%.4g", largest_dip) +
              " N: is the hammer channel's sign inverted?";
     }
     set.summary.fail(why);
@@ -223,9 +225,9 @@ HitSet detect_hits(const Eigen::Ref<const Eigen::VectorXd>& force,
   for (size_t i = 0; i < set.hits.size(); ++i) {
     if (static_cast<double>(space[i]) < o.min_record_fraction * median_space) {
       set.hits[i].rejection = "record too short: only " +
-                              fmt("%.4g", static_cast<double>(space[i]) / fs_hz) +
+                              format1("%.4g", static_cast<double>(space[i]) / fs_hz) +
                               " s until the next hit or the end of the data (the median is " +
-                              fmt("%.4g", median_space / fs_hz) + " s)";
+                              format1("%.4g", median_space / fs_hz) + " s)";
     } else {
       length = std::min(length, space[i]);
     }
@@ -253,9 +255,10 @@ HitSet hits_from_windows(const Eigen::Ref<const Eigen::VectorXd>& force,
     const auto a = static_cast<Eigen::Index>(std::llround(windows_s[i][0] * fs_hz));
     const auto b = static_cast<Eigen::Index>(std::llround(windows_s[i][1] * fs_hz));
     if (a < 0 || b > n || b <= a) {
-      throw InputError("hits[" + std::to_string(i) + "] = [" + fmt("%g", windows_s[i][0]) + ", " +
-                       fmt("%g", windows_s[i][1]) + "] s: must satisfy 0 <= start < end <= " +
-                       fmt("%g", static_cast<double>(n) / fs_hz) + " s (the data length)");
+      throw InputError("hits[" + std::to_string(i) + "] = [" + format1("%g", windows_s[i][0]) +
+                       ", " + format1("%g", windows_s[i][1]) +
+                       "] s: must satisfy 0 <= start < end <= " +
+                       format1("%g", static_cast<double>(n) / fs_hz) + " s (the data length)");
     }
     Hit hit;
     hit.start = a;
@@ -273,7 +276,7 @@ HitSet hits_from_windows(const Eigen::Ref<const Eigen::VectorXd>& force,
       hit.pulse_end = hit.start;
       hit.time_s = static_cast<double>(hit.start) / fs_hz;
       hit.rejection =
-          "no force above the threshold " + fmt("%.4g", set.threshold_n) + " N in the window";
+          "no force above the threshold " + format1("%.4g", set.threshold_n) + " N in the window";
       continue;
     }
     hit.trigger = in.front().trigger;

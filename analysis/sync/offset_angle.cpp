@@ -5,7 +5,9 @@
 #include <cmath>
 #include <sstream>
 
+#include "analysis/common/angles.h"
 #include "analysis/common/constants.h"
+#include "analysis/common/number_text.h"
 #include "analysis/common/stopwatch.h"
 #include "analysis/milling/simulation.h"
 
@@ -13,13 +15,6 @@ namespace chatterlab {
 namespace sync {
 
 namespace {
-
-std::string fmt(double v, int precision = 6) {
-  std::ostringstream s;
-  s.precision(precision);
-  s << v;
-  return s.str();
-}
 
 // Every tooth has the same coefficients (the simulated revolution repeats every tooth pitch).
 bool teeth_alike(const milling::SimulationOptions& o) {
@@ -33,28 +28,23 @@ bool teeth_alike(const milling::SimulationOptions& o) {
   return true;
 }
 
-double circular_distance_deg(double a, double b) {
-  double d = std::fmod(a - b, 360.0);
-  if (d < 0.0) d += 360.0;
-  return std::min(d, 360.0 - d);
-}
-
 }  // namespace
 
 ComparisonWindow comparison_window(const CutSchedule& cut, double spindle_rpm, int revolutions,
                                    double depth_m) {
   if (!std::isfinite(cut.cut_start_s) || !std::isfinite(cut.cut_end_s) ||
       !(cut.cut_end_s > cut.cut_start_s)) {
-    throw InputError("comparison_window: cut_window_s = [" + fmt(cut.cut_start_s) + ", " +
-                     fmt(cut.cut_end_s) + "]: must be finite with start < end");
+    throw InputError("comparison_window: cut_window_s = [" + stream_text(cut.cut_start_s) + ", " +
+                     stream_text(cut.cut_end_s) + "]: must be finite with start < end");
   }
   if (!std::isfinite(cut.depth_start_m) || !std::isfinite(cut.depth_end_m) ||
       cut.depth_start_m < 0.0 || cut.depth_end_m < 0.0) {
-    throw InputError("comparison_window: axial depth [" + fmt(cut.depth_start_m) + ", " +
-                     fmt(cut.depth_end_m) + "] m: must be finite and >= 0");
+    throw InputError("comparison_window: axial depth [" + stream_text(cut.depth_start_m) + ", " +
+                     stream_text(cut.depth_end_m) + "] m: must be finite and >= 0");
   }
   if (!(spindle_rpm > 0.0) || !std::isfinite(spindle_rpm)) {
-    throw InputError("comparison_window: spindle_rpm = " + fmt(spindle_rpm) + ": must be > 0");
+    throw InputError("comparison_window: spindle_rpm = " + stream_text(spindle_rpm) +
+                     ": must be > 0");
   }
   if (revolutions < 1) {
     throw InputError("comparison_window: revolutions = " + std::to_string(revolutions) +
@@ -67,8 +57,8 @@ ComparisonWindow comparison_window(const CutSchedule& cut, double spindle_rpm, i
   if (hi - lo < length) {
     throw InputError("comparison_window: " + std::to_string(revolutions) +
                      " revolutions (+1, and one at each end) do not fit in cut_window_s = [" +
-                     fmt(cut.cut_start_s) + ", " + fmt(cut.cut_end_s) + "] at " + fmt(spindle_rpm) +
-                     " rpm");
+                     stream_text(cut.cut_start_s) + ", " + stream_text(cut.cut_end_s) + "] at " +
+                     stream_text(spindle_rpm) + " rpm");
   }
   ComparisonWindow w;
   if (cut.depth_end_m == cut.depth_start_m) {
@@ -77,9 +67,9 @@ ComparisonWindow comparison_window(const CutSchedule& cut, double spindle_rpm, i
     const double d0 = std::min(cut.depth_start_m, cut.depth_end_m);
     const double d1 = std::max(cut.depth_start_m, cut.depth_end_m);
     if (!(depth_m >= d0 && depth_m <= d1)) {
-      throw InputError("comparison_window: depth " + fmt(depth_m * 1e3) +
-                       " mm: must lie within the ramp's depths [" + fmt(d0 * 1e3) + ", " +
-                       fmt(d1 * 1e3) + "] mm");
+      throw InputError("comparison_window: depth " + stream_text(depth_m * 1e3) +
+                       " mm: must lie within the ramp's depths [" + stream_text(d0 * 1e3) + ", " +
+                       stream_text(d1 * 1e3) + "] mm");
     }
     const double t = cut.cut_start_s + (depth_m - cut.depth_start_m) /
                                            (cut.depth_end_m - cut.depth_start_m) *
@@ -110,7 +100,8 @@ OffsetAngleResult find_offset_angle(const RevolutionMean& measured,
                                     const OffsetSearchOptions& options) {
   validate(options);
   if (!(depth_m > 0.0) || !std::isfinite(depth_m)) {
-    throw InputError("find_offset_angle: depth_m = " + fmt(depth_m) + ": must be finite and > 0");
+    throw InputError("find_offset_angle: depth_m = " + stream_text(depth_m) +
+                     ": must be finite and > 0");
   }
   milling::SimulationOptions o = parameters;
   o.depth = milling::DepthProfile::constant(depth_m, options.simulated_revolutions);
@@ -127,7 +118,8 @@ OffsetAngleResult find_offset_angle(const RevolutionMean& measured,
   r.simulation_runtime_s = seconds_since(t_sim);
   r.simulated_revolutions = sim.revolutions;
   if (!sim.summary.ok()) {
-    r.summary.fail("simulation at " + fmt(depth_m * 1e3) + " mm failed: " + sim.summary.message);
+    r.summary.fail("simulation at " + stream_text(depth_m * 1e3) +
+                   " mm failed: " + sim.summary.message);
     return r;
   }
   const milling::RevolutionRecord& prev = sim.records[0];
@@ -150,8 +142,9 @@ OffsetAngleResult find_offset_angle(const RevolutionMean& measured,
   if (!(measured_ac > kFlatFraction * simulated_ac)) {
     r.summary.fail(
         "the measured deflection does not vary over the revolution (RMS about its mean " +
-        fmt(measured_ac, 3) + " m, below " + fmt(100.0 * kFlatFraction, 2) +
-        " % of the simulated revolution's " + fmt(simulated_ac, 3) + " m at " + fmt(depth_m * 1e3) +
+        stream_text(measured_ac, 3) + " m, below " + stream_text(100.0 * kFlatFraction, 2) +
+        " % of the simulated revolution's " + stream_text(simulated_ac, 3) + " m at " +
+        stream_text(depth_m * 1e3) +
         " mm): no offset angle can be found; are the deflection channels connected "
         "and scaled?");
     return r;
@@ -202,17 +195,18 @@ OffsetAngleResult find_offset_angle(const RevolutionMean& measured,
   if (r.settle_change > options.settle_tolerance) {
     r.summary.warnings.push_back("simulated revolution not settled after " + std::to_string(R) +
                                  " revolutions: the last two differ by " +
-                                 fmt(100.0 * r.settle_change, 3) +
-                                 " % RMS (chatter or slow decay at " + fmt(depth_m * 1e3) +
+                                 stream_text(100.0 * r.settle_change, 3) +
+                                 " % RMS (chatter or slow decay at " + stream_text(depth_m * 1e3) +
                                  " mm): the offset compares with a revolution that is not steady");
   }
   if (r.search.ambiguous) {
     r.summary.warnings.push_back(
         "the other tooth alignment fits almost as well: offset " +
-        fmt(r.search.offset_angle_deg, 5) + " deg (RMS error " + fmt(r.search.rms_error_m, 3) +
-        " m) and " + fmt(r.search.runner_up_deg, 5) + " deg (" +
-        fmt(r.search.runner_up_error_m, 3) + " m, ratio " + fmt(r.search.runner_up_ratio, 4) +
-        "): with alike teeth the offset is defined modulo " + fmt(360.0 / o.teeth, 4) +
+        stream_text(r.search.offset_angle_deg, 5) + " deg (RMS error " +
+        stream_text(r.search.rms_error_m, 3) + " m) and " + stream_text(r.search.runner_up_deg, 5) +
+        " deg (" + stream_text(r.search.runner_up_error_m, 3) + " m, ratio " +
+        stream_text(r.search.runner_up_ratio, 4) +
+        "): with alike teeth the offset is defined modulo " + stream_text(360.0 / o.teeth, 4) +
         " deg and tooth numbering follows the better fit");
   }
   return r;

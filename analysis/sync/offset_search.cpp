@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/common/angles.h"
 #include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 
@@ -25,18 +26,6 @@ void check_pair(const Eigen::Ref<const Eigen::VectorXd>& x,
     throw InputError(std::string("RevolutionMatcher: ") + name +
                      " revolution has non-finite values");
   }
-}
-
-double wrap_deg(double a) {
-  double w = std::fmod(a, 360.0);
-  if (w < 0.0) w += 360.0;
-  if (w >= 360.0) w = 0.0;
-  return w;
-}
-
-double circular_distance_deg(double a, double b) {
-  const double d = wrap_deg(a - b);
-  return std::min(d, 360.0 - d);
 }
 
 // Minimum of f on [a, b] by golden-section search until the bracket is narrower than tol.

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "analysis/common/constants.h"
+#include "analysis/common/number_text.h"
 #include "analysis/signal/pulses.h"
 #include "analysis/signal/unwrap.h"
 
@@ -12,13 +13,6 @@ namespace chatterlab {
 namespace sync {
 
 namespace {
-
-std::string fmt(double v, int precision = 6) {
-  std::ostringstream s;
-  s.precision(precision);
-  s << v;
-  return s.str();
-}
 
 double median(std::vector<double>* v) {
   const auto mid = v->begin() + static_cast<std::ptrdiff_t>(v->size() / 2);
@@ -39,10 +33,11 @@ TachAngle tach_angle(const Eigen::Ref<const Eigen::VectorXd>& tach_V, double fs_
                      double spindle_rpm, const TachOptions& options) {
   validate(options);
   if (!(fs_hz > 0.0) || !std::isfinite(fs_hz)) {
-    throw InputError("tach_angle: fs_hz = " + fmt(fs_hz) + ": must be finite and > 0");
+    throw InputError("tach_angle: fs_hz = " + stream_text(fs_hz) + ": must be finite and > 0");
   }
   if (!(spindle_rpm > 0.0) || !std::isfinite(spindle_rpm)) {
-    throw InputError("tach_angle: spindle_rpm = " + fmt(spindle_rpm) + ": must be finite and > 0");
+    throw InputError("tach_angle: spindle_rpm = " + stream_text(spindle_rpm) +
+                     ": must be finite and > 0");
   }
   TachAngle r;
   r.fs_hz = fs_hz;
@@ -63,7 +58,7 @@ TachAngle tach_angle(const Eigen::Ref<const Eigen::VectorXd>& tach_V, double fs_
   const double lo = *lo_it;
   const double hi = *hi_it;
   if (!(hi > lo)) {
-    r.summary.fail("no tachometer edges: the tach channel is flat at " + fmt(lo) + " V");
+    r.summary.fail("no tachometer edges: the tach channel is flat at " + stream_text(lo) + " V");
     return r;
   }
   const double mid = 0.5 * (lo + hi);
@@ -77,15 +72,15 @@ TachAngle tach_angle(const Eigen::Ref<const Eigen::VectorXd>& tach_V, double fs_
 
   r.edges = signal::rising_edges(tach_V, r.threshold_V, r.hysteresis_V);
   if (r.edges.empty()) {
-    r.summary.fail("no tachometer edges: tach never rises through " + fmt(r.threshold_V) +
-                   " V after being below " + fmt(r.threshold_V - r.hysteresis_V) + " V (levels " +
-                   fmt(r.low_V) + " and " + fmt(r.high_V) + " V, " + std::to_string(tach_V.size()) +
-                   " samples)");
+    r.summary.fail("no tachometer edges: tach never rises through " + stream_text(r.threshold_V) +
+                   " V after being below " + stream_text(r.threshold_V - r.hysteresis_V) +
+                   " V (levels " + stream_text(r.low_V) + " and " + stream_text(r.high_V) + " V, " +
+                   std::to_string(tach_V.size()) + " samples)");
     return r;
   }
   if (r.edges.size() < 2) {
-    r.summary.fail("fewer than 2 tachometer edges: one edge at t = " + fmt(r.edges[0] / fs_hz) +
-                   " s; a revolution needs two");
+    r.summary.fail("fewer than 2 tachometer edges: one edge at t = " +
+                   stream_text(r.edges[0] / fs_hz) + " s; a revolution needs two");
     return r;
   }
   r.revolutions = static_cast<int>(r.edges.size()) - 1;
@@ -110,10 +105,11 @@ TachAngle tach_angle(const Eigen::Ref<const Eigen::VectorXd>& tach_V, double fs_
     const double interval = r.edges[first_off + 1] - r.edges[first_off];
     std::ostringstream m;
     m << "tachometer speed disagrees with spindle_rpm: revolution " << first_off
-      << " (edges at t = " << fmt(r.edges[first_off] / fs_hz) << " and "
-      << fmt(r.edges[first_off + 1] / fs_hz) << " s) measures " << fmt(fs_hz * 60.0 / interval)
-      << " rpm, expected " << fmt(spindle_rpm) << " rpm (more than "
-      << fmt(100.0 * options.rpm_tolerance) << " % apart; " << off << " of " << r.revolutions
+      << " (edges at t = " << stream_text(r.edges[first_off] / fs_hz) << " and "
+      << stream_text(r.edges[first_off + 1] / fs_hz) << " s) measures "
+      << stream_text(fs_hz * 60.0 / interval) << " rpm, expected " << stream_text(spindle_rpm)
+      << " rpm (more than " << stream_text(100.0 * options.rpm_tolerance) << " % apart; " << off
+      << " of " << r.revolutions
       << " revolutions off: a missed or spurious pulse, or a wrong spindle_rpm)";
     r.summary.fail(m.str());
     return r;

@@ -4,19 +4,10 @@
 #include <cmath>
 #include <sstream>
 
+#include "analysis/common/number_text.h"
+
 namespace chatterlab {
 namespace sync {
-
-namespace {
-
-std::string fmt(double v, int precision = 6) {
-  std::ostringstream s;
-  s.precision(precision);
-  s << v;
-  return s.str();
-}
-
-}  // namespace
 
 int contour_phase_points(const TachAngle& tach, const ContourOptions& options) {
   if (options.phase_points > 0) return options.phase_points;
@@ -30,12 +21,12 @@ TipDeflection tip_deflection(const Eigen::Ref<const Eigen::VectorXd>& x_sensor_m
                              double air_end_s, const ContourOptions& options) {
   validate(options);
   if (!(sensor_to_tip > 0.0) || !std::isfinite(sensor_to_tip)) {
-    throw InputError("tip_deflection: sensor_to_tip = " + fmt(sensor_to_tip) +
+    throw InputError("tip_deflection: sensor_to_tip = " + stream_text(sensor_to_tip) +
                      ": must be finite and > 0");
   }
   if (!std::isfinite(air_start_s) || !std::isfinite(air_end_s) || !(air_end_s > air_start_s)) {
-    throw InputError("tip_deflection: air_window_s = [" + fmt(air_start_s) + ", " + fmt(air_end_s) +
-                     "]: must be finite with start < end");
+    throw InputError("tip_deflection: air_window_s = [" + stream_text(air_start_s) + ", " +
+                     stream_text(air_end_s) + "]: must be finite with start < end");
   }
   TipDeflection r;
   if (!tach.summary.ok()) {
@@ -53,10 +44,10 @@ TipDeflection tip_deflection(const Eigen::Ref<const Eigen::VectorXd>& x_sensor_m
   const RevolutionRange air = whole_revolutions_in(tach, air_start_s, air_end_s);
   if (air.count < options.min_air_revolutions) {
     std::ostringstream m;
-    m << "air window too short: air_window_s = [" << fmt(air_start_s) << ", " << fmt(air_end_s)
-      << "] holds " << air.count << " whole tachometer revolution" << (air.count == 1 ? "" : "s")
-      << " (between rising edges), need at least " << options.min_air_revolutions
-      << " for the runout contour";
+    m << "air window too short: air_window_s = [" << stream_text(air_start_s) << ", "
+      << stream_text(air_end_s) << "] holds " << air.count << " whole tachometer revolution"
+      << (air.count == 1 ? "" : "s") << " (between rising edges), need at least "
+      << options.min_air_revolutions << " for the runout contour";
     r.summary.fail(m.str());
     return r;
   }
@@ -68,7 +59,7 @@ TipDeflection tip_deflection(const Eigen::Ref<const Eigen::VectorXd>& x_sensor_m
     const double a = tach.edges[static_cast<std::size_t>(air.first)] / tach.fs_hz;
     const double b = tach.edges[static_cast<std::size_t>(air.first + air.count)] / tach.fs_hz;
     r.summary.fail("runout contour not finite: NaN or infinite x or y samples between t = " +
-                   fmt(a) + " and " + fmt(b) + " s (the air revolutions)");
+                   stream_text(a) + " and " + stream_text(b) + " s (the air revolutions)");
     r.contour = RevolutionMean{};
     return r;
   }

@@ -34,6 +34,8 @@ void dtrsyl_(const char* trana, const char* tranb, const int* isgn, const int* m
              const int* ldc, double* scale, int* info, std::size_t, std::size_t);
 }
 
+#include "analysis/common/statistics.h"
+
 namespace chatterlab {
 namespace sysid {
 namespace {
@@ -42,14 +44,6 @@ using Clock = SteadyClock;
 
 int select_stable(const double* wr, const double* wi) {
   return std::hypot(*wr, *wi) < kStableRadius ? 1 : 0;
-}
-
-double median_of(Eigen::VectorXd v) {
-  const std::size_t n = static_cast<std::size_t>(v.size());
-  std::sort(v.data(), v.data() + n);
-  return n % 2 == 1 ? v[static_cast<Eigen::Index>(n / 2)]
-                    : 0.5 * (v[static_cast<Eigen::Index>(n / 2 - 1)] +
-                             v[static_cast<Eigen::Index>(n / 2)]);
 }
 
 // The r eigenpairs of largest |lambda| of the symmetric matrix H, all eigenvalues returned in
@@ -245,7 +239,7 @@ EraRealization era_realize(const Eigen::Ref<const Eigen::VectorXd>& y, double ra
   const double s1 = out.singular_values[0];
   const double floor = alpha * std::numeric_limits<double>::epsilon() * s1;
   const double rule = std::isnan(options.markov_noise_std)
-                          ? kEraMedianRuleOmega * median_of(out.singular_values)
+                          ? kEraMedianRuleOmega * median(out.singular_values)
                           : gavish_donoho_lambda(1.0) * std::sqrt(static_cast<double>(alpha)) *
                                 options.markov_noise_std;
   out.threshold = std::max(rule, floor);

@@ -12,6 +12,7 @@
 
 #include "analysis/common/constants.h"
 #include "analysis/common/require.h"
+#include "analysis/common/statistics.h"
 #include "analysis/common/stopwatch.h"
 #include "analysis/sysid/era.h"
 #include "analysis/sysid/gavish_donoho.h"
@@ -21,12 +22,6 @@ namespace sysid {
 namespace {
 
 using Clock = SteadyClock;
-
-double median_of(Eigen::VectorXd v) {
-  const Eigen::Index n = v.size();
-  std::sort(v.data(), v.data() + n);
-  return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 // Row k: C (z_k I - A)^-1 (step 7). With the complex Schur form A = Z T Z^*, T upper
 // triangular, x (z I - T) = C Z is solved column by column, x_j = (c_j + sum_{i<j} x_i T_ij)
@@ -137,7 +132,7 @@ FrequencySubspaceResult frequency_subspace_identify(const Eigen::Ref<const Eigen
       out.aspect_ratio = static_cast<double>(q) / static_cast<double>(L - q);
       const double floor = std::sqrt(static_cast<double>(q) * static_cast<double>(L)) *
                            std::numeric_limits<double>::epsilon() * Ht.rightCols(q).norm();
-      out.threshold = std::max(gavish_donoho_omega(out.aspect_ratio) * median_of(s), floor);
+      out.threshold = std::max(gavish_donoho_omega(out.aspect_ratio) * median(s), floor);
       while (r < q && s[r] > out.threshold) ++r;
     }
     out.order_by_threshold = r;

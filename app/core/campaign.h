@@ -79,6 +79,14 @@ struct TestSpec {
   // Calibration of `name` (defaults when test.yaml names none).
   ChannelSpec channel(const std::string& name) const;
 
+  // "<id>/<file>" for a file of the test given relative to its folder ("<file>" for a test at
+  // the campaign root): how messages and the report name it.
+  std::string file_label(const std::string& relative_file) const {
+    return (id.empty() ? "" : id + "/") + relative_file;
+  }
+  // The label of the test's data file.
+  std::string data_label() const { return file_label(data.relative_file); }
+
   // The kind's keys as its own type. A spec of another type is a broken invariant (the kind
   // asked for another kind's keys): an InvariantError, an internal error.
   template <class T>

@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 
+#include "analysis/common/stopwatch.h"
 #include "analysis/common/summary.h"
 #include "app/cli/exit_codes.h"
 #include "app/cli/output_folder.h"
@@ -30,10 +31,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // Whether `inner` is `outer` or lies below it (both made absolute and canonical as far as they
 // exist).

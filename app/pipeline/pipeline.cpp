@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "analysis/common/stopwatch.h"
 #include "app/core/archive.h"
 #include "app/core/hashing.h"
 #include "app/core/input_boundary.h"
@@ -19,10 +20,6 @@ namespace chatterlab::app {
 namespace {
 
 constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // One test or group product of the campaign's graph.
 struct Node {
@@ -359,7 +356,7 @@ void check_signals(TestSpec& t, const KindRegistry& kinds) {
   // (test.yaml `frf:`; the loader requires data of every other test). Its file is read and
   // checked by the kind's run.
   if (t.data.relative_file.empty() && t.kind == "tap") return;
-  const std::string label = (t.id.empty() ? "" : t.id + "/") + t.data.relative_file;
+  const std::string label = t.data_label();
   try {
     const SignalTable table = SignalTable::open(t.data, label);
     for (auto& e :

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "analysis/common/constants.h"
 #include "app/core/format.h"
 #include "app/kinds/cut/cut_kind.h"
 #include "app/report/dynamics_figures.h"
@@ -10,8 +11,6 @@
 
 namespace chatterlab::app {
 namespace {
-
-constexpr double kRadToDeg = 57.29577951308232;
 
 // "m_kg" -> "m [kg]", "Kt1_N_m2" -> "Kt1 [N/m^2]" (EXPERIMENT_FORMAT.md estimate keys).
 std::string key_label(const std::string& key) {

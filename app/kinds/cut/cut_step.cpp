@@ -167,7 +167,7 @@ std::vector<std::string> cut_window_errors(const TestSpec& t, double duration_s)
 
 CutOutcome run_cut_test(const TestSpec& t, const CutStepInputs& in, const CutStepOptions& options) {
   CutOutcome out;
-  const std::string label = (t.id.empty() ? "" : t.id + "/") + t.data.relative_file;
+  const std::string label = t.data_label();
   const SignalTable table = SignalTable::open(t.data, label);
   // Normally found before the run (CutKind::check_record); checked again here because every
   // step below indexes the record with these windows.

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "analysis/common/constants.h"
 #include "app/core/archive_analysis.h"
 #include "app/core/format.h"
 #include "app/core/signals.h"
@@ -20,12 +21,6 @@ namespace chatterlab::app {
 using nlohmann::json;
 
 namespace {
-
-constexpr double kRadToDeg = 57.29577951308232;
-
-std::string signal_label(const TestSpec& t) {
-  return (t.id.empty() ? "" : t.id + "/") + t.data.relative_file;
-}
 
 const char* mean_force_model_name(cutting::SlotMeanForceModel m) {
   return m == cutting::SlotMeanForceModel::kSingleToothChip ? "single-tooth-chip"
@@ -148,7 +143,7 @@ std::vector<std::string> DynoSlotKind::provides(const TestSpec&) const {
 void DynoSlotKind::run(const TestSpec& t, const CampaignValues&, const RunContext&,
                        TestOutcome& out) const {
   const DynoSlotSpec& spec = t.kind_spec<DynoSlotSpec>();
-  const SignalTable table = SignalTable::open(t.data, signal_label(t));
+  const SignalTable table = SignalTable::open(t.data, t.data_label());
   const Eigen::VectorXd fx = table.channel("Fx", t.channel("Fx"));
   const Eigen::VectorXd fy = table.channel("Fy", t.channel("Fy"));
   const ChannelSpec zero_cal = t.channel("zero");
@@ -164,7 +159,7 @@ void DynoSlotKind::run(const TestSpec& t, const CampaignValues&, const RunContex
   out.warnings.insert(out.warnings.end(), d->result.summary.warnings.begin(),
                       d->result.summary.warnings.end());
   if (!d->result.summary.ok()) {
-    out.status.fail(signal_label(t) + ": " + d->result.summary.message);
+    out.status.fail(t.data_label() + ": " + d->result.summary.message);
     return;
   }
   out.result = std::move(d);

@@ -28,10 +28,6 @@ constexpr double kDefaultBandHiHz = 4000.0;
 constexpr double kDefaultBandHiFraction = 0.4;
 constexpr int kMaxOrder = 20;  // ten modes: far more than a dynamometer shows in its band
 
-std::string label_of(const TestSpec& t) {
-  return (t.id.empty() ? "" : t.id + "/") + t.data.relative_file;
-}
-
 json pairs_json(const std::vector<forcerec::RootPair>& pairs) {
   json a = json::array();
   for (const auto& p : pairs) a.push_back({{"fn_hz", p.fn_hz}, {"zeta", p.zeta}});
@@ -100,7 +96,7 @@ std::string DynoFrfKind::describe_value(const std::string& name) const {
 void DynoFrfKind::run(const TestSpec& t, const CampaignValues&, const RunContext&,
                       TestOutcome& out) const {
   const auto& s = t.kind_spec<DynoFrfSpec>();
-  const std::string label = label_of(t);
+  const std::string label = t.data_label();
   const SignalTable table = SignalTable::open(t.data, label);
   const Eigen::VectorXd hammer = table.channel("hammer", t.channel("hammer"));
   const Eigen::VectorXd dyno = table.channel("dyno", t.channel("dyno"));

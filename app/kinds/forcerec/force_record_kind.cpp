@@ -27,10 +27,6 @@ constexpr char kAxes[3] = {'x', 'y', 'z'};
 
 std::string channel_of(char axis) { return std::string("F") + axis; }
 
-std::string label_of(const TestSpec& t) {
-  return (t.id.empty() ? "" : t.id + "/") + t.data.relative_file;
-}
-
 // Reads {x: v, y: v, z: v} of positive numbers (noise_var_N2) or strings (frf_tests).
 template <class F>
 void read_axis_map(const YAML::Node& root, YamlReader& r, const std::string& key, F&& each) {
@@ -416,7 +412,7 @@ std::vector<Need> ForceRecordKind::needs(const TestSpec& t) const {
 void ForceRecordKind::run(const TestSpec& t, const CampaignValues& in, const RunContext& ctx,
                           TestOutcome& out) const {
   const auto& s = t.kind_spec<ForceRecordSpec>();
-  const std::string label = label_of(t);
+  const std::string label = t.data_label();
   const SignalTable table = SignalTable::open(t.data, label);
   const double fs = t.sample_rate_hz;
   auto res = std::make_unique<ForceRecordResult>();
@@ -454,7 +450,7 @@ void ForceRecordKind::run(const TestSpec& t, const CampaignValues& in, const Run
     DataSpec d = s.reference;
     d.file = resolve_input_file(t, "reference.force.file", d.relative_file);
     d.sample_rate_hz = 0.0;
-    const std::string rl = (t.id.empty() ? "" : t.id + "/") + d.relative_file;
+    const std::string rl = t.file_label(d.relative_file);
     const SignalTable rt = SignalTable::open(d, rl);
     if (static_cast<Eigen::Index>(rt.samples()) != N) {
       throw InputError(t.yaml_label + ": key 'reference.force.file': " + rl + " holds " +

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "app/core/format.h"
+#include "app/core/vectors.h"
 #include "app/kinds/forcerec/forcerec_kinds.h"
 #include "app/report/figure_jobs.h"
 #include "app/report/results_json.h"
@@ -15,15 +16,11 @@ using nlohmann::json;
 
 namespace {
 
-constexpr const char* kColours[3] = {"#D55E00", "#009E73", "#0072B2"};  // akf, smo, rd
+constexpr const char* kMethodColours[3] = {"#D55E00", "#009E73", "#0072B2"};  // akf, smo, rd
 constexpr const char* kNames[3] = {"AKF", "SMO", "RD"};
 constexpr int kTimePeriods = 4;  // tooth periods in the time figure
 
 std::string pct(double v) { return std::isfinite(v) ? fmt_sig(v, 3) : std::string("n/a"); }
-
-std::vector<double> to_vector(const Eigen::Ref<const Eigen::VectorXd>& v) {
-  return std::vector<double>(v.data(), v.data() + v.size());
-}
 
 // Measured, reconstructed and (when given) reference force over a few tooth periods in the
 // middle of the harmonic window (or of the evaluation window).
@@ -54,7 +51,7 @@ render::Figure time_figure(const ForceRecordResult& r, const ForceAxisResult& ax
     const auto& m = ax.methods[static_cast<std::size_t>(i)];
     if (!m.ok) continue;
     a.series.emplace_back(t, to_vector(m.force_N.segment(k0, len)), kNames[i],
-                          render::SeriesStyle::kLine, kColours[i]);
+                          render::SeriesStyle::kLine, kMethodColours[i]);
   }
   return fig;
 }
@@ -87,7 +84,7 @@ render::Figure spectrum_figure(const ForceRecordResult& r, const ForceAxisResult
     if (!m.ok) continue;
     const auto& h = m.harmonics.amplitudes_N;
     top.series.emplace_back(f_of(h.size()), h, kNames[i], render::SeriesStyle::kLinePoints,
-                            kColours[i]);
+                            kMethodColours[i]);
   }
   const double f_hi = std::max(0.5 * r.sample_rate_hz, 1.0);
   top.x_range = render::Range{0.0, f_hi};

@@ -37,12 +37,8 @@ constexpr std::array<const char*, 4> kStateKeys = {"Vw_mm2", "v_mm_s", "ds_mm", 
 constexpr std::array<const char*, 4> kSigmaKeys = {"Vw_3sigma_mm2", "v_3sigma_mm_s", "ds_3sigma_mm",
                                                    "R0_3sigma_um"};
 
-std::string data_label(const TestSpec& t) {
-  return (t.id.empty() ? "" : t.id + "/") + t.data.relative_file;
-}
-
 std::string inspections_label(const TestSpec& t, const GrindingSpec& s) {
-  return (t.id.empty() ? "" : t.id + "/") + s.inspections_file;
+  return t.file_label(s.inspections_file);
 }
 
 // The inspections file of a test, through the input boundary (inside the campaign, a regular
@@ -206,7 +202,7 @@ std::vector<std::string> split(const std::string& line) {
 
 // The fast record after calibration; cycle numbers must be whole.
 g::FastRecord read_record(const TestSpec& t) {
-  const std::string label = data_label(t);
+  const std::string label = t.data_label();
   const SignalTable table = SignalTable::open(t.data, label);
   g::FastRecord rec;
   const Eigen::VectorXd cycle = table.channel("cycle", t.channel("cycle"));
@@ -234,7 +230,7 @@ std::string series_message(const TestSpec& t, const GrindingSpec& s, const std::
   if (what.rfind("dressings: ", 0) == 0) {
     return t.yaml_label + ": key 'dressings' " + strip("dressings: ");
   }
-  return data_label(t) + ": " + what;
+  return t.data_label() + ": " + what;
 }
 
 // truth.yaml tests.<id>.per_cycle as rows of (Vw, v, ds, R0) and R_a; false when absent.
@@ -524,7 +520,7 @@ void GrindingKind::run(const TestSpec& t, const CampaignValues&, const RunContex
   }
   out.result = std::move(res);
   if (failed == static_cast<int>(g::kGrindingEstimators.size())) {
-    out.status.fail(data_label(t) + ": every estimator failed: " + why);
+    out.status.fail(t.data_label() + ": every estimator failed: " + why);
   } else {
     out.status.succeed();
   }

@@ -16,7 +16,8 @@ namespace g = chatterlab::grinding;
 
 namespace {
 
-constexpr std::array<const char*, 4> kColours = {"#0072B2", "#D55E00", "#009E73", "#CC79A7"};
+constexpr std::array<const char*, 4> kEstimatorColours = {"#0072B2", "#D55E00", "#009E73",
+                                                          "#CC79A7"};
 
 std::vector<double> cycles_of(const GrindingResult& res) {
   std::vector<double> c;
@@ -78,7 +79,7 @@ render::Figure grinding_ds_figure(const GrindingResult& res) {
     if (!run.summary.ok()) continue;
     const std::string name = g::kGrindingEstimators[k].name;
     fig.panels[0].series.emplace_back(x, per_cycle(run, g::kDs, 1.0, 0.0), name,
-                                      render::SeriesStyle::kLine, kColours[k]);
+                                      render::SeriesStyle::kLine, kEstimatorColours[k]);
     if (res.has_truth) {
       std::vector<double> e, lo, hi;
       for (std::size_t i = 0; i < run.per_cycle.size(); ++i) {
@@ -90,11 +91,12 @@ render::Figure grinding_ds_figure(const GrindingResult& res) {
         lo.push_back(err - s3);
         hi.push_back(err + s3);
       }
-      add_banded(fig.panels[1], x, e, lo, hi, name, kColours[k]);
+      add_banded(fig.panels[1], x, e, lo, hi, name, kEstimatorColours[k]);
     } else {
       std::vector<double> s3;
       for (const auto& c : run.per_cycle) s3.push_back(c.posterior.three_sigma[g::kDs] * 1e3);
-      fig.panels[1].series.emplace_back(x, s3, name, render::SeriesStyle::kLinePoints, kColours[k]);
+      fig.panels[1].series.emplace_back(x, s3, name, render::SeriesStyle::kLinePoints,
+                                        kEstimatorColours[k]);
     }
   }
   const auto [ix, iy] = inspected(res, &g::Inspection::ds_mm);
@@ -127,11 +129,11 @@ render::Figure grinding_r0_figure(const GrindingResult& res) {
     if (!info.estimates_R0 || !run.summary.ok()) continue;
     add_banded(fig.panels[0], x, per_cycle(run, g::kR0, 1.0, 0.0),
                per_cycle(run, g::kR0, 1.0, -1.0), per_cycle(run, g::kR0, 1.0, 1.0), info.name,
-               kColours[k]);
+               kEstimatorColours[k]);
     std::vector<double> ra;
     for (const auto& c : run.per_cycle) ra.push_back(c.Ra_pred_um);
     fig.panels[1].series.emplace_back(x, ra, std::string(info.name) + " predicted",
-                                      render::SeriesStyle::kLinePoints, kColours[k]);
+                                      render::SeriesStyle::kLinePoints, kEstimatorColours[k]);
   }
   const auto [ix, iy] = inspected(res, &g::Inspection::Ra_um);
   if (!ix.empty()) {
@@ -171,9 +173,11 @@ render::Figure grinding_nis_figure(const GrindingResult& res) {
         iv.push_back(c.nis_inspection_per_dof);
       }
     }
-    fig.panels[0].series.emplace_back(x, f, name, render::SeriesStyle::kLinePoints, kColours[k]);
+    fig.panels[0].series.emplace_back(x, f, name, render::SeriesStyle::kLinePoints,
+                                      kEstimatorColours[k]);
     if (!ix.empty()) {
-      fig.panels[1].series.emplace_back(ix, iv, name, render::SeriesStyle::kPoints, kColours[k]);
+      fig.panels[1].series.emplace_back(ix, iv, name, render::SeriesStyle::kPoints,
+                                        kEstimatorColours[k]);
     }
     if (!band_fast) {  // the fast updates have the same dimension for every id
       for (const auto& c : run.per_cycle) {

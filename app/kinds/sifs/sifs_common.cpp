@@ -8,10 +8,6 @@
 
 namespace chatterlab::app {
 
-std::string sifs_signal_label(const TestSpec& t) {
-  return (t.id.empty() ? "" : t.id + "/") + t.data.relative_file;
-}
-
 sifs::Axis read_sifs_axis(const YAML::Node& root, YamlReader& r, bool allow_z) {
   const std::string a = r.required_string(root, "axis");
   if (a == "x") return sifs::Axis::kX;

@@ -22,9 +22,6 @@ namespace chatterlab::app {
 // The washer channel names of format section 6, in the column order of sifs::Washers.
 inline const std::vector<std::string> kWasherChannels{"x1", "x2", "y1", "y2", "z1", "z2"};
 
-// "<test id>/<data file>" for messages.
-std::string sifs_signal_label(const TestSpec& t);
-
 // `axis` (x | y | z, or x | y when !allow_z); an error through r otherwise.
 sifs::Axis read_sifs_axis(const YAML::Node& root, YamlReader& r, bool allow_z);
 

@@ -3,10 +3,12 @@
 #include <fstream>
 #include <limits>
 
+#include "analysis/common/constants.h"
 #include "analysis/signal/resample.h"
 #include "app/core/archive_analysis.h"
 #include "app/core/format.h"
 #include "app/core/parallel.h"
+#include "app/core/vectors.h"
 #include "app/kinds/common/conditions.h"
 #include "app/kinds/sifs/sifs_common.h"
 #include "app/kinds/sifs/sifs_kinds.h"
@@ -22,7 +24,6 @@ using nlohmann::json;
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kRadToDeg = 180.0 / kPi;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 Eigen::Index to_index(double t_s, double fs, Eigen::Index n) {
@@ -35,10 +36,6 @@ double rms(const Eigen::Ref<const Eigen::VectorXd>& x) {
 
 Eigen::VectorXd resampled(const signal::RationalResampler* rs, const Eigen::VectorXd& x) {
   return rs ? rs->apply(x) : x;
-}
-
-std::vector<double> to_vector(const Eigen::VectorXd& v) {
-  return std::vector<double>(v.data(), v.data() + v.size());
 }
 
 // Phase of c / c_ref in (-180, 180] degrees.
@@ -220,7 +217,7 @@ void SifsCutKind::run(const TestSpec& t, const CampaignValues& in, const RunCont
     out.failure = Failure::kInput;
     return;
   }
-  const SignalTable table = SignalTable::open(t.data, sifs_signal_label(t));
+  const SignalTable table = SignalTable::open(t.data, t.data_label());
   const sifs::Pairs pairs = sifs::pair_signals(read_washers(table, t));
   const Eigen::Matrix3d C = calibration_for(*cal, t, s.tool_length_mm, out.warnings);
   const Eigen::Matrix<double, Eigen::Dynamic, 3> fm = pairs * C.transpose();
@@ -379,7 +376,7 @@ void SifsCutKind::run(const TestSpec& t, const CampaignValues& in, const RunCont
   });
   for (int a = 0; a < 2; ++a) {
     if (!errors[static_cast<std::size_t>(a)].empty()) {
-      throw InputError(sifs_signal_label(t) + ": axis " + (a == 0 ? "x" : "y") + ": " +
+      throw InputError(t.data_label() + ": axis " + (a == 0 ? "x" : "y") + ": " +
                        errors[static_cast<std::size_t>(a)]);
     }
   }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "analysis/common/constants.h"
 #include "app/core/archive_analysis.h"
 #include "app/core/format.h"
 #include "app/kinds/sifs/sifs_common.h"
@@ -17,7 +18,6 @@ using nlohmann::json;
 
 namespace {
 
-constexpr double kRadToDeg = 57.29577951308232;
 constexpr const char* kAxisNames[2] = {"x", "y"};
 
 std::string pct_or_na(double v) { return std::isfinite(v) ? fmt_sig(v, 3) : std::string("n/a"); }

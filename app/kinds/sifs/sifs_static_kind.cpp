@@ -97,7 +97,7 @@ std::string SifsStaticKind::describe_value(const std::string& name) const {
 void SifsStaticKind::run(const TestSpec& t, const CampaignValues&, const RunContext&,
                          TestOutcome& out) const {
   const auto& s = t.kind_spec<SifsStaticSpec>();
-  const SignalTable table = SignalTable::open(t.data, sifs_signal_label(t));
+  const SignalTable table = SignalTable::open(t.data, t.data_label());
   const sifs::Washers w = read_washers(table, t);
   auto res = std::make_unique<SifsStaticResult>();
   try {
@@ -108,7 +108,7 @@ void SifsStaticKind::run(const TestSpec& t, const CampaignValues&, const RunCont
   out.warnings.insert(out.warnings.end(), res->reduction.summary.warnings.begin(),
                       res->reduction.summary.warnings.end());
   if (!res->reduction.summary.ok()) {
-    out.status.fail(sifs_signal_label(t) + ": " + res->reduction.summary.message);
+    out.status.fail(t.data_label() + ": " + res->reduction.summary.message);
     return;
   }
   out.result = std::move(res);

@@ -376,7 +376,7 @@ YAML::Node matrix(const Eigen::Matrix3d& m) {
   return n;
 }
 
-double wrap_deg(double a) {
+double wrap_signed_deg(double a) {
   a = std::fmod(a, 360.0);
   if (a <= -180.0) a += 360.0;
   if (a > 180.0) a -= 360.0;
@@ -518,8 +518,8 @@ void write_force_file(const std::filesystem::path& file, const s::CutSynth& cut,
 YAML::Node unbalance_node(const std::vector<s::UnbalanceTerm>& terms) {
   YAML::Node n(YAML::NodeType::Sequence);
   for (const auto& u : terms) {
-    n.push_back(
-        synth_numbers({{"h", u.h}, {"amp_N", u.amp_n}, {"phase_deg", wrap_deg(u.phase_deg)}}));
+    n.push_back(synth_numbers(
+        {{"h", u.h}, {"amp_N", u.amp_n}, {"phase_deg", wrap_signed_deg(u.phase_deg)}}));
   }
   return n;
 }

@@ -6,6 +6,7 @@
 #include "analysis/common/constants.h"
 #include "app/core/archive_analysis.h"
 #include "app/core/format.h"
+#include "app/core/vectors.h"
 #include "app/formats/frf_text.h"
 #include "app/formats/uff58.h"
 #include "app/kinds/common/frf_figure.h"
@@ -47,10 +48,6 @@ Eigen::VectorXd antiresonances(const std::vector<sifs::SensorMode>& modes) {
     prev = g;
   }
   return Eigen::Map<const Eigen::VectorXd>(out.data(), static_cast<Eigen::Index>(out.size()));
-}
-
-std::vector<double> to_vector(const Eigen::VectorXd& v) {
-  return std::vector<double>(v.data(), v.data() + v.size());
 }
 
 }  // namespace
@@ -116,7 +113,7 @@ void SifsTapKind::run(const TestSpec& t, const CampaignValues& in, const RunCont
     out.failure = Failure::kInput;
     return;
   }
-  const SignalTable table = SignalTable::open(t.data, sifs_signal_label(t));
+  const SignalTable table = SignalTable::open(t.data, t.data_label());
   const sifs::Washers w = read_washers(table, t);
   const sifs::Pairs p = sifs::pair_signals(w);
   const int k = static_cast<int>(s.axis);
@@ -128,7 +125,7 @@ void SifsTapKind::run(const TestSpec& t, const CampaignValues& in, const RunCont
   const Eigen::Matrix3d C = calibration_for(*cal, t, s.tool_length_mm, out.warnings);
   data->response_n = p * C.row(k).transpose();
   const double fs = t.sample_rate_hz;
-  data->windows = hammer_windows(t, s.hits, data->hammer_n, sifs_signal_label(t), out.warnings);
+  data->windows = hammer_windows(t, s.hits, data->hammer_n, t.data_label(), out.warnings);
   auto res = std::make_unique<SifsTapResult>();
   try {
     res->frf = sifs::tap_frf(data->hammer_n, data->response_n, fs, data->windows);
@@ -136,7 +133,7 @@ void SifsTapKind::run(const TestSpec& t, const CampaignValues& in, const RunCont
     throw InputError(t.yaml_label + ": " + e.what());
   }
   if (!res->frf.summary.ok()) {
-    out.status.fail(sifs_signal_label(t) + ": " + res->frf.summary.message);
+    out.status.fail(t.data_label() + ": " + res->frf.summary.message);
     return;
   }
   data->impact = res->frf.impact;
@@ -149,7 +146,7 @@ void SifsTapKind::run(const TestSpec& t, const CampaignValues& in, const RunCont
   out.warnings.insert(out.warnings.end(), res->model.summary.warnings.begin(),
                       res->model.summary.warnings.end());
   if (!res->model.summary.ok()) {
-    out.status.fail(sifs_signal_label(t) + ": modal fit: " + res->model.summary.message);
+    out.status.fail(t.data_label() + ": modal fit: " + res->model.summary.message);
     return;
   }
   data->modes = res->model.modes;

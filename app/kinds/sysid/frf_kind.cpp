@@ -40,7 +40,7 @@ std::string FrfKind::describe_value(const std::string& name) const {
 void FrfKind::run(const TestSpec& t, const CampaignValues&, const RunContext&,
                   TestOutcome& out) const {
   const auto& s = t.kind_spec<FrfSpec>();
-  const std::string label = (t.id.empty() ? "" : t.id + "/") + t.data.relative_file;
+  const std::string label = t.data_label();
   const SignalTable table = SignalTable::open(t.data, label);
   const Eigen::VectorXd f = table.channel("freq_hz", t.channel("freq_hz"));
   const Eigen::VectorXd re = table.channel("re", t.channel("re"));

@@ -205,7 +205,7 @@ void SpindleCurrentKind::run(const TestSpec& t, const CampaignValues& in, const 
                      fmt_sig(dm.model.sample_rate_hz, 8) + " Hz, the current at " +
                      fmt_sig(t.sample_rate_hz, 8) + " Hz");
   }
-  const std::string label = (t.id.empty() ? "" : t.id + "/") + t.data.relative_file;
+  const std::string label = t.data_label();
   const SignalTable table = SignalTable::open(t.data, label);
   const Eigen::VectorXd current = table.channel("current", t.channel("current"));
   const double fs = t.sample_rate_hz;
@@ -282,7 +282,7 @@ void SpindleCurrentKind::run(const TestSpec& t, const CampaignValues& in, const 
     DataSpec d;
     d.file = f.path;
     d.relative_file = s.dyno_file;
-    const std::string dlabel = (t.id.empty() ? "" : t.id + "/") + s.dyno_file;
+    const std::string dlabel = t.file_label(s.dyno_file);
     const SignalTable dt = SignalTable::open(d, dlabel);
     if (!dt.has("torque")) throw InputError(dlabel + ": has no column 'torque' (N*m)");
     const Eigen::VectorXd raw = dt.channel("torque");

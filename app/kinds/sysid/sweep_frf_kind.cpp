@@ -124,7 +124,7 @@ std::string SweepFrfKind::describe_value(const std::string& name) const {
 void SweepFrfKind::run(const TestSpec& t, const CampaignValues&, const RunContext&,
                        TestOutcome& out) const {
   const auto& s = t.kind_spec<SweepFrfSpec>();
-  const std::string label = (t.id.empty() ? "" : t.id + "/") + t.data.relative_file;
+  const std::string label = t.data_label();
   const SignalTable table = SignalTable::open(t.data, label);
   Eigen::VectorXd ch[4];
   for (int i = 0; i < 4; ++i) {

@@ -136,7 +136,7 @@ frf::Frf read_tap_frf(const TestSpec& t, std::vector<std::string>* warnings, std
   const TapSpec& tap = t.kind_spec<TapSpec>();
   CHATTERLAB_CHECK(tap.frf.has_value(), t.yaml_label + ": the tap test names no frf file");
   const TapFrfInput& in = *tap.frf;
-  const std::string label = (t.id.empty() ? "" : t.id + "/") + in.file;
+  const std::string label = t.file_label(in.file);
   const std::filesystem::path file = resolve_input_file(t, "frf.file", in.file);
   if (!is_uff(file) && in.record > 0) {
     throw InputError(t.yaml_label + ": key 'frf.record' is only for a UFF58 file (.uff, .unv)");
@@ -205,7 +205,7 @@ TapOutcome run_tap_test(const TestSpec& t, const TapStepOptions& options) {
     take_frf(f, tap, options, out);
     return out;
   }
-  const std::string label = (t.id.empty() ? "" : t.id + "/") + t.data.relative_file;
+  const std::string label = t.data_label();
   const SignalTable table = SignalTable::open(t.data, label);
   const Eigen::VectorXd force = table.channel("force", t.channel("force"));
   const Eigen::VectorXd response = table.channel("response", t.channel("response"));
