@@ -25,4 +25,10 @@ std::string stream_text(double v, int precision) {
   return s.str();
 }
 
+std::string printf_text(const char* format, double a, double b, double c, double d) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, format, a, b, c, d);
+  return buf;
+}
+
 }  // namespace chatterlab

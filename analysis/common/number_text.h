@@ -14,4 +14,9 @@ std::string significant_text(double v, int digits = 4);
 // cutting messages.
 std::string stream_text(double v, int precision = 6);
 
+// snprintf(format, a, b, c, d) into a 256-byte buffer: a printf format of up to four doubles
+// (the frf and sifs messages).
+std::string printf_text(const char* format, double a, double b = 0.0, double c = 0.0,
+                        double d = 0.0);
+
 }  // namespace chatterlab

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <string>
 
+#include "analysis/common/number_text.h"
 #include "analysis/common/statistics.h"
 
 namespace chatterlab {
@@ -12,12 +13,6 @@ namespace frf {
 namespace {
 
 constexpr double kMadToStd = 1.4826;  // std of a Gaussian = 1.4826 MAD
-
-std::string format1(const char* format, double value) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, value);
-  return buf;
-}
 
 void check_inputs(const Eigen::Ref<const Eigen::VectorXd>& force,
                   const Eigen::Ref<const Eigen::VectorXd>& response, double fs_hz,
@@ -104,8 +99,9 @@ std::string clipping(const Eigen::Ref<const Eigen::VectorXd>& x, double hi, doub
         while (j + 1 < to && std::abs(x[j + 1] - extreme) <= tol) ++j;
         const Eigen::Index first = i - run + 1;
         return std::string("clipped: ") + channel + " flat at its extreme " +
-               format1("%.6g", extreme) + " for " + std::to_string(j - first + 1) +
-               " samples from t = " + format1("%.6f", static_cast<double>(first) / fs_hz) + " s";
+               printf_text("%.6g", extreme) + " for " + std::to_string(j - first + 1) +
+               " samples from t = " + printf_text("%.6f", static_cast<double>(first) / fs_hz) +
+               " s";
       }
     }
   }
@@ -139,9 +135,8 @@ void judge(const Eigen::Ref<const Eigen::VectorXd>& force,
     if (!hit.rejection.empty()) continue;
     for (const Pulse& p : pulses) {
       if (p.trigger > hit.trigger && p.trigger < hit.end) {
-        hit.rejection =
-            "double hit at t = " + format1("%.6f", static_cast<double>(p.trigger) / set->fs_hz) +
-            " s";
+        hit.rejection = "double hit at t = " +
+                        printf_text("%.6f", static_cast<double>(p.trigger) / set->fs_hz) + " s";
         break;
       }
     }
@@ -156,7 +151,7 @@ void judge(const Eigen::Ref<const Eigen::VectorXd>& force,
     const Hit& hit = set->hits[i];
     if (hit.accepted) continue;
     const std::string line = "hit " + std::to_string(i + 1) +
-                             " at t = " + format1("%.6f", hit.time_s) +
+                             " at t = " + printf_text("%.6f", hit.time_s) +
                              " s rejected: " + hit.rejection;
     set->summary.warnings.push_back(line);
     reasons += (reasons.empty() ? "" : "; ") + line;
@@ -185,12 +180,13 @@ HitSet detect_hits(const Eigen::Ref<const Eigen::VectorXd>& force,
   HitSet set = baseline_and_threshold(force, response, fs_hz, o, &largest_peak, &largest_dip);
   if (!(largest_peak >= set.threshold_n) || !(set.threshold_n > 0.0)) {
     std::string why = "no hit above threshold: largest force peak " +
-                      format1("%.4g", largest_peak) + " N above the baseline " +
-                      format1("%.4g", set.force_baseline_n) + " N is below the threshold " +
-                      format1("%.4g", set.threshold_n) + " N (" + format1("%g", o.noise_multiple) +
-                      " x noise std " + format1("%.4g", set.force_noise_n) + " N)";
+                      printf_text("%.4g", largest_peak) + " N above the baseline " +
+                      printf_text("%.4g", set.force_baseline_n) + " N is below the threshold " +
+                      printf_text("%.4g", set.threshold_n) + " N (" +
+                      printf_text("%g", o.noise_multiple) + " x noise std " +
+                      printf_text("%.4g", set.force_noise_n) + " N)";
     if (largest_dip > 2.0 * std::max(largest_peak, 0.0) && largest_dip >= set.threshold_n) {
-      why += "; the force has a negative pulse of -" + format1("%.4g", largest_dip) +
+      why += "; the force has a negative pulse of -" + printf_text("%.4g", largest_dip) +
              " N: is the hammer channel's sign inverted?";
     }
     set.summary.fail(why);
@@ -225,9 +221,9 @@ HitSet detect_hits(const Eigen::Ref<const Eigen::VectorXd>& force,
   for (size_t i = 0; i < set.hits.size(); ++i) {
     if (static_cast<double>(space[i]) < o.min_record_fraction * median_space) {
       set.hits[i].rejection = "record too short: only " +
-                              format1("%.4g", static_cast<double>(space[i]) / fs_hz) +
+                              printf_text("%.4g", static_cast<double>(space[i]) / fs_hz) +
                               " s until the next hit or the end of the data (the median is " +
-                              format1("%.4g", median_space / fs_hz) + " s)";
+                              printf_text("%.4g", median_space / fs_hz) + " s)";
     } else {
       length = std::min(length, space[i]);
     }
@@ -255,10 +251,10 @@ HitSet hits_from_windows(const Eigen::Ref<const Eigen::VectorXd>& force,
     const auto a = static_cast<Eigen::Index>(std::llround(windows_s[i][0] * fs_hz));
     const auto b = static_cast<Eigen::Index>(std::llround(windows_s[i][1] * fs_hz));
     if (a < 0 || b > n || b <= a) {
-      throw InputError("hits[" + std::to_string(i) + "] = [" + format1("%g", windows_s[i][0]) +
-                       ", " + format1("%g", windows_s[i][1]) +
+      throw InputError("hits[" + std::to_string(i) + "] = [" + printf_text("%g", windows_s[i][0]) +
+                       ", " + printf_text("%g", windows_s[i][1]) +
                        "] s: must satisfy 0 <= start < end <= " +
-                       format1("%g", static_cast<double>(n) / fs_hz) + " s (the data length)");
+                       printf_text("%g", static_cast<double>(n) / fs_hz) + " s (the data length)");
     }
     Hit hit;
     hit.start = a;
@@ -275,8 +271,8 @@ HitSet hits_from_windows(const Eigen::Ref<const Eigen::VectorXd>& force,
       hit.trigger = hit.start;
       hit.pulse_end = hit.start;
       hit.time_s = static_cast<double>(hit.start) / fs_hz;
-      hit.rejection =
-          "no force above the threshold " + format1("%.4g", set.threshold_n) + " N in the window";
+      hit.rejection = "no force above the threshold " + printf_text("%.4g", set.threshold_n) +
+                      " N in the window";
       continue;
     }
     hit.trigger = in.front().trigger;

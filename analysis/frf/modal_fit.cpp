@@ -11,6 +11,7 @@
 
 #include "analysis/common/ceres_lm.h"
 #include "analysis/common/constants.h"
+#include "analysis/common/number_text.h"
 #include "analysis/frf/fit_band.h"
 #include "analysis/frf/modal_model.h"
 #include "analysis/frf/peaks.h"
@@ -24,12 +25,6 @@ namespace {
 constexpr double kZetaMin = 1e-6;  // bounds of the fitted damping ratio
 constexpr double kZetaMax = 0.5;   // a mode damped more than this shows no peak to fit
 constexpr double kAtBound = 1e-3;  // relative distance that counts as "at a bound"
-
-std::string format4(const char* format, double a, double b = 0.0, double c = 0.0, double d = 0.0) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, format, a, b, c, d);
-  return buf;
-}
 
 // Complex receptance residuals (model - measured) / scale, real and imaginary parts.
 class ReceptanceCost : public ceres::CostFunction {
@@ -279,17 +274,18 @@ ModalFit fit_modes(const Frf& frf, const ModalFitOptions& o) {
   peak_options.min_coherence = o.min_coherence;
   peak_options.f_min_hz = o.min_frequency_hz;
   const std::vector<FrfPeak> peaks = find_frf_peaks(frf.f_hz, h, frf.coherence, peak_options);
-  const std::string peak_rule = format4("coherence >= %g and prominence >= %g dB above %g Hz",
-                                        o.min_coherence, o.min_prominence_db, o.min_frequency_hz);
+  const std::string peak_rule =
+      printf_text("coherence >= %g and prominence >= %g dB above %g Hz", o.min_coherence,
+                  o.min_prominence_db, o.min_frequency_hz);
 
   std::array<double, 2> band_hz{};
   if (o.band_hz) {
     band_hz = *o.band_hz;
     if (!(band_hz[0] > 0.0 && band_hz[1] > band_hz[0] && band_hz[0] < f_last)) {
       throw InputError(
-          format4("modal_fit.band_hz = [%g, %g]: must satisfy 0 < lo < hi and lo < %g Hz "
-                  "(the last FRF bin)",
-                  band_hz[0], band_hz[1], f_last));
+          printf_text("modal_fit.band_hz = [%g, %g]: must satisfy 0 < lo < hi and lo < %g Hz "
+                      "(the last FRF bin)",
+                      band_hz[0], band_hz[1], f_last));
     }
     band_hz[1] = std::min(band_hz[1], f_last);
   } else if (peaks.empty()) {
@@ -304,7 +300,7 @@ ModalFit fit_modes(const Frf& frf, const ModalFitOptions& o) {
 
   std::vector<FrfPeak> chosen =
       peaks_to_fit(peaks, band_hz, o.n_modes, o.mode_floor_db, o.max_modes, &fit.summary.warnings);
-  const std::string in_band = format4(" in the band [%.6g, %.6g] Hz", band_hz[0], band_hz[1]);
+  const std::string in_band = printf_text(" in the band [%.6g, %.6g] Hz", band_hz[0], band_hz[1]);
   if (o.n_modes > 0 && static_cast<int>(chosen.size()) < o.n_modes) {
     fit.summary.fail("modal_fit.n_modes = " + std::to_string(o.n_modes) + " but only " +
                      std::to_string(chosen.size()) + " peaks with " + peak_rule + " lie" + in_band);
@@ -331,8 +327,8 @@ ModalFit fit_modes(const Frf& frf, const ModalFitOptions& o) {
   band.w_hi = kTwoPi * band_hz[1];
   const int n_params = 3 * static_cast<int>(chosen.size()) + (o.residual_terms ? 2 : 0);
   if (n_band < n_params || !(band.scale > 0.0)) {
-    fit.summary.fail(format4("the band holds %g bins: too few for %g parameters",
-                             static_cast<double>(n_band), static_cast<double>(n_params)) +
+    fit.summary.fail(printf_text("the band holds %g bins: too few for %g parameters",
+                                 static_cast<double>(n_band), static_cast<double>(n_params)) +
                      in_band);
     return fit;
   }
@@ -343,7 +339,7 @@ ModalFit fit_modes(const Frf& frf, const ModalFitOptions& o) {
   while (o.n_modes == 0 && s.converged && !s.at_bounds.empty() &&
          s.at_bounds.size() < chosen.size()) {
     for (auto it = s.at_bounds.rbegin(); it != s.at_bounds.rend(); ++it) {
-      fit.summary.warnings.push_back(format4(
+      fit.summary.warnings.push_back(printf_text(
           "peak at %.6g Hz dropped: the fit moved it onto a bound of its frequency or damping",
           chosen[*it].f_hz));
       chosen.erase(chosen.begin() + static_cast<long>(*it));
@@ -388,7 +384,7 @@ ModalFit fit_modes(const Frf& frf, const ModalFitOptions& o) {
         ++rejected;
         continue;
       }
-      added += (added.empty() ? "" : ", ") + format4("%.6g", p->f_hz);
+      added += (added.empty() ? "" : ", ") + printf_text("%.6g", p->f_hz);
       chosen = std::move(trial);
       from_residual.insert(from_residual.begin() + pos, true);
       s = std::move(t);
@@ -399,7 +395,8 @@ ModalFit fit_modes(const Frf& frf, const ModalFitOptions& o) {
       fit.summary.warnings.push_back(
           "modes added from the fit's residual (shoulders of closely spaced modes, not peaks "
           "of |H|) near " +
-          added + format4(" Hz: each raised the fit by at least %g points", o.min_mode_gain_pct));
+          added +
+          printf_text(" Hz: each raised the fit by at least %g points", o.min_mode_gain_pct));
     }
   }
 
@@ -407,8 +404,8 @@ ModalFit fit_modes(const Frf& frf, const ModalFitOptions& o) {
   const int n_modes = s.model.modes();
   if (!s.converged) {
     fit.summary.fail(
-        format4("modal fit of %g modes", n_modes) + in_band +
-        format4(" did not converge within modal_fit.max_iterations = %g: ", o.max_iterations) +
+        printf_text("modal fit of %g modes", n_modes) + in_band +
+        printf_text(" did not converge within modal_fit.max_iterations = %g: ", o.max_iterations) +
         s.message);
     return fit;
   }
@@ -439,17 +436,17 @@ ModalFit fit_modes(const Frf& frf, const ModalFitOptions& o) {
     const PoleShift pole = undo_exponential_window(fn_fit, zeta_fit, frf.exp_window_tau_s);
     if (!(pole.zeta > 0.0)) {
       fit.summary.fail(
-          format4("mode at %.6g Hz: damping ratio %.4g after removing the exponential "
-                  "window (fitted %.4g, window 1/(tau wn) = %.4g) is not positive: the "
-                  "window is too strong for this mode",
-                  fn_fit, pole.zeta, zeta_fit, 1.0 / (frf.exp_window_tau_s * kTwoPi * fn_fit)));
+          printf_text("mode at %.6g Hz: damping ratio %.4g after removing the exponential "
+                      "window (fitted %.4g, window 1/(tau wn) = %.4g) is not positive: the "
+                      "window is too strong for this mode",
+                      fn_fit, pole.zeta, zeta_fit, 1.0 / (frf.exp_window_tau_s * kTwoPi * fn_fit)));
       return fit;
     }
     ModeQuality q;
     q.at_bound = std::find(s.at_bounds.begin(), s.at_bounds.end(), static_cast<size_t>(i)) !=
                  s.at_bounds.end();
     if (q.at_bound) {
-      fit.summary.warnings.push_back(format4(
+      fit.summary.warnings.push_back(printf_text(
           "mode at %.6g Hz (zeta %.4g) ended on a bound of its frequency (the band) or damping "
           "[%g, %g]: treat it with suspicion",
           fn_fit, zeta_fit, kZetaMin, kZetaMax));
@@ -470,9 +467,10 @@ ModalFit fit_modes(const Frf& frf, const ModalFitOptions& o) {
   for (const auto& [m, q] : found) {
     fit.modes.push_back(m);
     fit.quality.push_back(q);
-    if (q.negative_constant) negative += (negative.empty() ? "" : ", ") + format4("%.6g", m.fn_hz);
+    if (q.negative_constant)
+      negative += (negative.empty() ? "" : ", ") + printf_text("%.6g", m.fn_hz);
     if (q.resolution_limited) {
-      limited += (limited.empty() ? "" : ", ") + format4("%.6g", m.fn_hz);
+      limited += (limited.empty() ? "" : ", ") + printf_text("%.6g", m.fn_hz);
       ++n_limited;
       bins_lo = std::min(bins_lo, q.half_power_bins);
       bins_hi = std::max(bins_hi, q.half_power_bins);
@@ -485,18 +483,18 @@ ModalFit fit_modes(const Frf& frf, const ModalFitOptions& o) {
   }
   if (n_limited > 0) {
     fit.summary.warnings.push_back(
-        format4("damping is resolution-limited for %g of ", static_cast<double>(n_limited)) +
-        format4("%g modes (", static_cast<double>(n_modes)) + limited +
-        format4(" Hz): half-power bandwidth 2 zeta fn is below %g df = ",
-                o.resolution_warning_bins) +
-        format4("%.3g Hz, so zeta and c are estimates from ",
-                o.resolution_warning_bins * frf.df_hz) +
-        format4("%.2g to ", bins_lo) +
-        format4("%.2g bins; longer records (finer df) would resolve them", bins_hi));
+        printf_text("damping is resolution-limited for %g of ", static_cast<double>(n_limited)) +
+        printf_text("%g modes (", static_cast<double>(n_modes)) + limited +
+        printf_text(" Hz): half-power bandwidth 2 zeta fn is below %g df = ",
+                    o.resolution_warning_bins) +
+        printf_text("%.3g Hz, so zeta and c are estimates from ",
+                    o.resolution_warning_bins * frf.df_hz) +
+        printf_text("%.2g to ", bins_lo) +
+        printf_text("%.2g bins; longer records (finer df) would resolve them", bins_hi));
   }
   if (fit.fit_nrmse_pct < 80.0) {
     fit.summary.warnings.push_back(
-        format4("poor fit: NRMSE fit %.1f %% over the band (below 80 %%)", fit.fit_nrmse_pct));
+        printf_text("poor fit: NRMSE fit %.1f %% over the band (below 80 %%)", fit.fit_nrmse_pct));
   }
   fit.summary.succeed();
   return fit;

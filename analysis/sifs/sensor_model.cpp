@@ -13,6 +13,7 @@
 
 #include "analysis/common/ceres_lm.h"
 #include "analysis/common/constants.h"
+#include "analysis/common/number_text.h"
 #include "analysis/common/statistics.h"
 #include "analysis/frf/peaks.h"
 #include "analysis/signal/fft.h"
@@ -44,12 +45,6 @@ constexpr double kPeakMinCoherence = 0.5;
 constexpr double kStaticGainTolerance = 0.1;
 constexpr double kPoorFitPct = 20.0;
 
-std::string format4(const char* format, double a, double b = 0.0, double c = 0.0, double d = 0.0) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, format, a, b, c, d);
-  return buf;
-}
-
 Eigen::Index samples(double seconds, double fs_hz) {
   return static_cast<Eigen::Index>(std::llround(seconds * fs_hz));
 }
@@ -59,26 +54,26 @@ void check_tap_options(const TapOptions& o) {
     if (!ok) throw InputError("sifs-tap." + what);
   };
   require(o.impact_fraction > 0.0 && o.impact_fraction < 1.0,
-          "impact_fraction = " + format4("%g", o.impact_fraction) + ": must be in (0, 1)");
+          "impact_fraction = " + printf_text("%g", o.impact_fraction) + ": must be in (0, 1)");
   require(o.pre_impact_guard_s >= 0.0,
-          "pre_impact_guard_s = " + format4("%g", o.pre_impact_guard_s) + ": must be >= 0");
+          "pre_impact_guard_s = " + printf_text("%g", o.pre_impact_guard_s) + ": must be >= 0");
   require(o.min_pre_impact_s > o.pre_impact_guard_s,
-          "min_pre_impact_s = " + format4("%g", o.min_pre_impact_s) +
-              ": must be > pre_impact_guard_s = " + format4("%g", o.pre_impact_guard_s));
+          "min_pre_impact_s = " + printf_text("%g", o.min_pre_impact_s) +
+              ": must be > pre_impact_guard_s = " + printf_text("%g", o.pre_impact_guard_s));
   require(o.auto_threshold_fraction > 0.0 && o.auto_threshold_fraction < 1.0,
-          "auto_threshold_fraction = " + format4("%g", o.auto_threshold_fraction) +
+          "auto_threshold_fraction = " + printf_text("%g", o.auto_threshold_fraction) +
               ": must be in (0, 1)");
   require(o.auto_bounce_s >= 0.0,
-          "auto_bounce_s = " + format4("%g", o.auto_bounce_s) + ": must be >= 0");
+          "auto_bounce_s = " + printf_text("%g", o.auto_bounce_s) + ": must be >= 0");
   require(o.auto_pretrigger_s >= 0.0,
-          "auto_pretrigger_s = " + format4("%g", o.auto_pretrigger_s) + ": must be >= 0");
+          "auto_pretrigger_s = " + printf_text("%g", o.auto_pretrigger_s) + ": must be >= 0");
   require(o.auto_max_window_s > 0.0,
-          "auto_max_window_s = " + format4("%g", o.auto_max_window_s) + ": must be > 0");
+          "auto_max_window_s = " + printf_text("%g", o.auto_max_window_s) + ": must be > 0");
 }
 
 void check_rate(double fs_hz) {
   if (!(std::isfinite(fs_hz) && fs_hz > 0.0)) {
-    throw InputError("sifs-tap sample_rate_hz = " + format4("%g", fs_hz) + ": must be > 0");
+    throw InputError("sifs-tap sample_rate_hz = " + printf_text("%g", fs_hz) + ": must be > 0");
   }
 }
 
@@ -231,9 +226,9 @@ void check_fit_options(const SensorFitOptions& o) {
   require(o.modes >= 1, "modes = " + std::to_string(o.modes) + ": must be >= 1");
   require(std::isfinite(o.band_lo_hz) && std::isfinite(o.band_hi_hz) && o.band_lo_hz >= 0.0 &&
               o.band_hi_hz > o.band_lo_hz,
-          format4("band_hz = [%g, %g]: must satisfy 0 <= lo < hi", o.band_lo_hz, o.band_hi_hz));
+          printf_text("band_hz = [%g, %g]: must satisfy 0 <= lo < hi", o.band_lo_hz, o.band_hi_hz));
   require(o.max_zeta > 2.0 * kZetaMin && o.max_zeta < 1.0,
-          "max_zeta = " + format4("%g", o.max_zeta) + ": must be in (2e-6, 1)");
+          "max_zeta = " + printf_text("%g", o.max_zeta) + ": must be in (2e-6, 1)");
 }
 
 }  // namespace
@@ -256,9 +251,9 @@ std::vector<TapWindow> auto_tap_windows(const Eigen::Ref<const Eigen::VectorXd>&
   const double threshold = o.auto_threshold_fraction * largest;
   if (!(threshold > kAutoNoiseMultiple * noise) || !(threshold > 0.0)) {
     throw InputError(
-        format4("hits: auto: the hammer shows no hit: the threshold %g x the largest "
-                "|hammer - median| = %.4g N is not above %g x the hammer noise std %.4g N",
-                o.auto_threshold_fraction, threshold, kAutoNoiseMultiple, noise));
+        printf_text("hits: auto: the hammer shows no hit: the threshold %g x the largest "
+                    "|hammer - median| = %.4g N is not above %g x the hammer noise std %.4g N",
+                    o.auto_threshold_fraction, threshold, kAutoNoiseMultiple, noise));
   }
   const Eigen::Index bounce = samples(o.auto_bounce_s, fs_hz);
   const Eigen::Index pre = samples(o.auto_pretrigger_s, fs_hz);
@@ -279,10 +274,10 @@ std::vector<TapWindow> auto_tap_windows(const Eigen::Ref<const Eigen::VectorXd>&
     while (impact > 0 && d[impact - 1] >= o.impact_fraction * peak) --impact;
     if (impact - pre < 0) {
       throw InputError(
-          format4("hits: auto: the hit at t = %.6g s is only %.6g s after the record "
-                  "start: needs auto_pretrigger_s = %g s before it",
-                  static_cast<double>(impact) / fs_hz, static_cast<double>(impact) / fs_hz,
-                  o.auto_pretrigger_s));
+          printf_text("hits: auto: the hit at t = %.6g s is only %.6g s after the record "
+                      "start: needs auto_pretrigger_s = %g s before it",
+                      static_cast<double>(impact) / fs_hz, static_cast<double>(impact) / fs_hz,
+                      o.auto_pretrigger_s));
     }
     impacts.push_back(impact);
   }
@@ -293,9 +288,9 @@ std::vector<TapWindow> auto_tap_windows(const Eigen::Ref<const Eigen::VectorXd>&
   }
   if (length <= pre) {
     throw InputError(
-        format4("hits: auto: windows of %.6g s (the shortest spacing of the hits) end "
-                "before their impacts %g s after the window start (auto_pretrigger_s)",
-                static_cast<double>(length) / fs_hz, o.auto_pretrigger_s));
+        printf_text("hits: auto: windows of %.6g s (the shortest spacing of the hits) end "
+                    "before their impacts %g s after the window start (auto_pretrigger_s)",
+                    static_cast<double>(length) / fs_hz, o.auto_pretrigger_s));
   }
   std::vector<TapWindow> windows;
   for (const Eigen::Index impact : impacts)
@@ -321,19 +316,20 @@ TapFrf tap_frf(const Eigen::Ref<const Eigen::VectorXd>& hammer_n,
     const TapWindow& w = windows[i];
     const std::string name = "hits[" + std::to_string(i) + "]";
     if (w.begin < 0 || w.end > n || w.end <= w.begin) {
-      throw InputError(name + format4(" = [%.6g, %.6g] s: must satisfy 0 <= start < end <= %.6g s "
-                                      "(the record length)",
-                                      static_cast<double>(w.begin) / fs_hz,
-                                      static_cast<double>(w.end) / fs_hz,
-                                      static_cast<double>(n) / fs_hz));
+      throw InputError(
+          name + printf_text(" = [%.6g, %.6g] s: must satisfy 0 <= start < end <= %.6g s "
+                             "(the record length)",
+                             static_cast<double>(w.begin) / fs_hz,
+                             static_cast<double>(w.end) / fs_hz, static_cast<double>(n) / fs_hz));
     }
     if (w.end - w.begin != length) {
       throw InputError(name + " has " + std::to_string(w.end - w.begin) + " samples, hits[0] " +
                        std::to_string(length) + ": all windows must have one length");
     }
     if (length <= min_pre) {
-      throw InputError(name + format4(" lasts %.6g s: must be longer than min_pre_impact_s = %g s",
-                                      static_cast<double>(length) / fs_hz, o.min_pre_impact_s));
+      throw InputError(name +
+                       printf_text(" lasts %.6g s: must be longer than min_pre_impact_s = %g s",
+                                   static_cast<double>(length) / fs_hz, o.min_pre_impact_s));
     }
     if (!hammer_n.segment(w.begin, length).allFinite() ||
         !response_n.segment(w.begin, length).allFinite()) {
@@ -361,9 +357,10 @@ TapFrf tap_frf(const Eigen::Ref<const Eigen::VectorXd>& hammer_n,
     const double excursion = (hammer.array() - hammer_median).abs().maxCoeff();
     const double hammer_noise = kMadToStd * median((hammer.array() - hammer_median).abs().matrix());
     if (!(excursion > kImpactNoiseMultiple * hammer_noise)) {
-      throw InputError(name + format4(": no impact: the largest |hammer - median| %.4g N is not "
-                                      "above %g x the hammer noise std %.4g N",
-                                      excursion, kImpactNoiseMultiple, hammer_noise));
+      throw InputError(name +
+                       printf_text(": no impact: the largest |hammer - median| %.4g N is not "
+                                   "above %g x the hammer noise std %.4g N",
+                                   excursion, kImpactNoiseMultiple, hammer_noise));
     }
     // The impact against the mean of the part that is pre-impact whenever the window obeys
     // min_pre_impact_s, then again against the mean of the whole pre-impact part.
@@ -372,12 +369,12 @@ TapFrf tap_frf(const Eigen::Ref<const Eigen::VectorXd>& hammer_n,
     for (int pass = 0; pass < 2; ++pass) {
       if (im.sample < min_pre) {
         throw InputError(
-            name + format4(": the impact at t = %.6g s is %.4g ms after the window start %.6g s: a "
-                           "window must start >= min_pre_impact_s = %g ms before its impact",
-                           static_cast<double>(windows[i].begin + im.sample) / fs_hz,
-                           1e3 * static_cast<double>(im.sample) / fs_hz,
-                           static_cast<double>(windows[i].begin) / fs_hz,
-                           1e3 * o.min_pre_impact_s));
+            name +
+            printf_text(": the impact at t = %.6g s is %.4g ms after the window start %.6g s: a "
+                        "window must start >= min_pre_impact_s = %g ms before its impact",
+                        static_cast<double>(windows[i].begin + im.sample) / fs_hz,
+                        1e3 * static_cast<double>(im.sample) / fs_hz,
+                        static_cast<double>(windows[i].begin) / fs_hz, 1e3 * o.min_pre_impact_s));
       }
       hammer_mean = hammer.head(im.sample - guard).mean();
       if (pass == 0) im = find_impact(hammer, hammer_mean, o.impact_fraction);
@@ -444,7 +441,8 @@ SensorModel fit_sensor_model(const TapFrf& frf, const SensorFitOptions& o) {
                      std::to_string(frf.h1.size()) + " H1 values and " +
                      std::to_string(frf.coherence.size()) + " coherences: must be equal");
   }
-  const std::string in_band = format4(" in the band [%.6g, %.6g] Hz", o.band_lo_hz, o.band_hi_hz);
+  const std::string in_band =
+      printf_text(" in the band [%.6g, %.6g] Hz", o.band_lo_hz, o.band_hi_hz);
   std::vector<Eigen::Index> band_bins;
   for (Eigen::Index k = 0; k < nb; ++k) {
     if (frf.f_hz[k] >= o.band_lo_hz && frf.f_hz[k] <= o.band_hi_hz) band_bins.push_back(k);
@@ -452,8 +450,8 @@ SensorModel fit_sensor_model(const TapFrf& frf, const SensorFitOptions& o) {
   const auto n_band = static_cast<Eigen::Index>(band_bins.size());
   const int n_params = 3 * o.modes - (o.unit_static_gain ? 1 : 0);
   if (n_band < std::max(3, n_params)) {
-    fit.summary.fail(format4("%g bins lie", static_cast<double>(n_band)) + in_band +
-                     format4(": too few for %g parameters", n_params));
+    fit.summary.fail(printf_text("%g bins lie", static_cast<double>(n_band)) + in_band +
+                     printf_text(": too few for %g parameters", n_params));
     return fit;
   }
   Eigen::VectorXd f(n_band), w(n_band), weight(n_band), coh(n_band);
@@ -483,11 +481,11 @@ SensorModel fit_sensor_model(const TapFrf& frf, const SensorFitOptions& o) {
   if (static_cast<int>(peaks.size()) < o.modes) {
     std::string found;
     for (const frf::FrfPeak& p : peaks)
-      found += (found.empty() ? "" : ", ") + format4("%.6g", p.f_hz);
+      found += (found.empty() ? "" : ", ") + printf_text("%.6g", p.f_hz);
     fit.summary.fail("modes = " + std::to_string(o.modes) + " but only " +
                      std::to_string(peaks.size()) +
-                     format4(" resonance peaks (prominence >= %g dB, coherence >= %g) lie",
-                             kMinProminenceDb, kPeakMinCoherence) +
+                     printf_text(" resonance peaks (prominence >= %g dB, coherence >= %g) lie",
+                                 kMinProminenceDb, kPeakMinCoherence) +
                      in_band + (found.empty() ? "" : " (at " + found + " Hz)") +
                      ": no start for mode " + std::to_string(peaks.size() + 1));
     return fit;
@@ -504,10 +502,10 @@ SensorModel fit_sensor_model(const TapFrf& frf, const SensorFitOptions& o) {
     const double right = half_power_side(mag, f, p.bin, +1, level);
     if (!(left > 0.0 || right > 0.0)) {
       fit.summary.fail(
-          format4("no start for the mode at %.6g Hz: |H1| reaches its half-power level "
-                  "on neither side within the band before rising above the peak, so "
-                  "half-power damping is undefined (fit fewer modes or widen the band)",
-                  p.f_hz));
+          printf_text("no start for the mode at %.6g Hz: |H1| reaches its half-power level "
+                      "on neither side within the band before rising above the peak, so "
+                      "half-power damping is undefined (fit fewer modes or widen the band)",
+                      p.f_hz));
       return fit;
     }
     // One side only (a neighbour or the band edge hides the other): twice that side. Floored
@@ -547,8 +545,8 @@ SensorModel fit_sensor_model(const TapFrf& frf, const SensorFitOptions& o) {
   ceres::Solve(options, &problem, &summary);
   fit.iterations = lm_iterations(summary);
   if (summary.termination_type != ceres::CONVERGENCE) {
-    fit.summary.fail(format4("the fit of %g modes", o.modes) + in_band +
-                     format4(" did not converge in %g iterations: ", kMaxIterations) +
+    fit.summary.fail(printf_text("the fit of %g modes", o.modes) + in_band +
+                     printf_text(" did not converge in %g iterations: ", kMaxIterations) +
                      summary.message);
     return fit;
   }
@@ -563,32 +561,32 @@ SensorModel fit_sensor_model(const TapFrf& frf, const SensorFitOptions& o) {
     err2 += std::norm(sensor_response(fit.modes, f[b]) - h[b]);
   fit.fit_nrmse_pct = 100.0 * std::sqrt(err2) / h.norm();
 
-  std::string details = format4("%g modes fitted", o.modes) + in_band + ":";
+  std::string details = printf_text("%g modes fitted", o.modes) + in_band + ":";
   for (const SensorMode& m : fit.modes) {
-    details += format4("\n  fn = %.6g Hz, zeta = %.4g, alpha = %.4g", m.fn_hz, m.zeta, m.alpha);
+    details += printf_text("\n  fn = %.6g Hz, zeta = %.4g, alpha = %.4g", m.fn_hz, m.zeta, m.alpha);
     const double wn = kTwoPi * m.fn_hz;
     if (wn <= w_lo * (1.0 + kAtBound) || wn >= w_hi * (1.0 - kAtBound) ||
         m.zeta <= kZetaMin * (1.0 + kAtBound) || m.zeta >= o.max_zeta * (1.0 - kAtBound)) {
       fit.summary.warnings.push_back(
-          format4("mode at %.6g Hz (zeta %.4g) ended on a bound of its frequency (the band) or "
-                  "damping [%g, %g]: treat it with suspicion",
-                  m.fn_hz, m.zeta, kZetaMin, o.max_zeta));
+          printf_text("mode at %.6g Hz (zeta %.4g) ended on a bound of its frequency (the band) or "
+                      "damping [%g, %g]: treat it with suspicion",
+                      m.fn_hz, m.zeta, kZetaMin, o.max_zeta));
     }
     if (m.alpha < 0.0) {
       fit.summary.warnings.push_back(
-          format4("mode at %.6g Hz has a negative modal gain alpha = %.4g", m.fn_hz, m.alpha));
+          printf_text("mode at %.6g Hz has a negative modal gain alpha = %.4g", m.fn_hz, m.alpha));
     }
   }
   if (!o.unit_static_gain && std::abs(fit.static_gain - 1.0) > kStaticGainTolerance) {
     fit.summary.warnings.push_back(
-        format4("static gain sum alpha = %.4g differs from 1 by more than %g: the sensor is "
-                "statically calibrated, so the calibration or the fit is off (003 sec. 4.2)",
-                fit.static_gain, kStaticGainTolerance));
+        printf_text("static gain sum alpha = %.4g differs from 1 by more than %g: the sensor is "
+                    "statically calibrated, so the calibration or the fit is off (003 sec. 4.2)",
+                    fit.static_gain, kStaticGainTolerance));
   }
   if (fit.fit_nrmse_pct > kPoorFitPct) {
     fit.summary.warnings.push_back(
-        format4("poor fit: ||G - H1|| / ||H1|| = %.1f %% over the band (above %g %%)",
-                fit.fit_nrmse_pct, kPoorFitPct));
+        printf_text("poor fit: ||G - H1|| / ||H1|| = %.1f %% over the band (above %g %%)",
+                    fit.fit_nrmse_pct, kPoorFitPct));
   }
   fit.summary.succeed();
   fit.summary.details = details;
@@ -608,9 +606,9 @@ ScaledModal realize_scaled_modal(const std::vector<SensorMode>& modes) {
           std::isfinite(m.alpha))) {
       throw InputError(
           "sensor model mode " + std::to_string(i + 1) +
-          format4(" (fn = %g Hz, zeta = %g, alpha = %g): needs fn > 0, zeta >= 0, finite "
-                  "alpha",
-                  m.fn_hz, m.zeta, m.alpha));
+          printf_text(" (fn = %g Hz, zeta = %g, alpha = %g): needs fn > 0, zeta >= 0, finite "
+                      "alpha",
+                      m.fn_hz, m.zeta, m.alpha));
     }
     // States (q_i, q_i' / w_i) of mode i (notes/003.md sec. 3).
     const double wn = kTwoPi * m.fn_hz;
@@ -646,7 +644,7 @@ double discrete_observability_rcond(const Eigen::MatrixXd& A, const Eigen::RowVe
                      " columns: A must be square with C's width");
   }
   if (!(std::isfinite(T_s) && T_s > 0.0)) {
-    throw InputError("observability: T = " + format4("%g", T_s) + " s: must be > 0");
+    throw InputError("observability: T = " + printf_text("%g", T_s) + " s: must be > 0");
   }
   const Eigen::MatrixXd F = (A * T_s).exp();
   Eigen::MatrixXd O(n, n);  // 003 eq. 4-40 on the discrete pair: rows C F^k
