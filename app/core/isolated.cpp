@@ -26,15 +26,22 @@ constexpr char kOk = 'o';
 constexpr char kInputError = 'i';
 constexpr char kOtherError = 'x';
 
-bool write_all(int fd, const char* data, std::size_t n) {
+// Moves all n bytes at data with io(data, left), one call after another: a call moves part of
+// them, EINTR retries. False when a call fails or returns 0 (the other end closed the stream).
+template <typename Byte, typename Io>
+bool move_all(Byte* data, std::size_t n, Io io) {
   while (n > 0) {
-    const ssize_t w = ::write(fd, data, n);
-    if (w < 0 && errno == EINTR) continue;
-    if (w <= 0) return false;
-    data += w;
-    n -= static_cast<std::size_t>(w);
+    const ssize_t moved = io(data, n);
+    if (moved < 0 && errno == EINTR) continue;
+    if (moved <= 0) return false;
+    data += moved;
+    n -= static_cast<std::size_t>(moved);
   }
   return true;
+}
+
+bool write_all(int fd, const char* data, std::size_t n) {
+  return move_all(data, n, [fd](const char* d, std::size_t k) { return ::write(fd, d, k); });
 }
 
 }  // namespace
@@ -253,30 +260,14 @@ namespace {
 
 bool send_framed(int fd, const std::string& bytes, int flags) {
   const std::uint64_t n = bytes.size();
-  std::string framed(reinterpret_cast<const char*>(&n), sizeof n);
-  framed += bytes;
-  const char* data = framed.data();
-  std::size_t left = framed.size();
-  while (left > 0) {
-    const ssize_t w = ::send(fd, data, left, flags);
-    if (w < 0 && errno == EINTR) continue;
-    if (w <= 0) return false;
-    data += w;
-    left -= static_cast<std::size_t>(w);
-  }
-  return true;
+  const auto send = [fd, flags](const char* d, std::size_t k) { return ::send(fd, d, k, flags); };
+  return move_all(reinterpret_cast<const char*>(&n), sizeof n, send) &&
+         move_all(bytes.data(), bytes.size(), send);
 }
 
 // Blocking: the worker waits for its next request. False at the end of the stream.
 bool read_exactly(int fd, char* out, std::size_t n) {
-  while (n > 0) {
-    const ssize_t r = ::read(fd, out, n);
-    if (r < 0 && errno == EINTR) continue;
-    if (r <= 0) return false;
-    out += r;
-    n -= static_cast<std::size_t>(r);
-  }
-  return true;
+  return move_all(out, n, [fd](char* d, std::size_t k) { return ::read(fd, d, k); });
 }
 
 [[noreturn]] void worker_loop(int fd, const IsolatedWorker::Handler& handler) {
