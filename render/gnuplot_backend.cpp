@@ -27,6 +27,7 @@ const char* extension(ImageFormat format) {
 void write_file(const std::filesystem::path& path, const char* data, std::size_t bytes) {
   std::ofstream out(path, std::ios::binary);
   out.write(data, static_cast<std::streamsize>(bytes));
+  out.close();  // checked after closing: the last buffered block is written then
   if (!out) throw RenderError("cannot write " + path.string());
 }
 

@@ -317,6 +317,7 @@ std::vector<std::string> finish_pdf(const std::filesystem::path& in,
   {
     std::ofstream f(update_file);
     f << doc.dump();
+    f.close();
     if (!f)
       throw RenderError("html_to_pdf " + html.string() + ": cannot write " + update_file.string());
   }

@@ -18,6 +18,7 @@
 #include "app/cli/exit_codes.h"
 #include "app/cli/output_folder.h"
 #include "app/core/campaign.h"
+#include "app/core/checked_write.h"
 #include "app/core/signals.h"
 #include "app/core/yaml_load.h"
 #include "app/formats/frf_text.h"
@@ -1224,10 +1225,9 @@ void write_proposal(InitProposal& proposal) {
                        " (a linked folder): not written");
     }
     fs::create_directories(path.parent_path(), ec);
-    std::ofstream out(path, std::ios::binary);
+    std::ofstream out = open_for_writing(path);
     out << f.content;
-    out.close();
-    if (!out) throw InputError(f.path + ": cannot write in " + root.string());
+    close_checked(out, path);
     f.written = true;
   }
 }

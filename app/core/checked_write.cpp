@@ -12,7 +12,7 @@ namespace chatterlab::app {
 
 void write_file_checked(const std::filesystem::path& path, const std::string& text) {
   const auto fail = [&](int e) {
-    throw InputError("cannot write " + path.string() + ": " + std::strerror(e));
+    throw WriteError("cannot write " + path.string() + ": " + std::strerror(e));
   };
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | O_NOFOLLOW, 0666);
   if (fd < 0) fail(errno);
@@ -28,6 +28,28 @@ void write_file_checked(const std::filesystem::path& path, const std::string& te
     done += static_cast<std::size_t>(n);
   }
   if (::close(fd) != 0) fail(errno);
+}
+
+namespace {
+
+[[noreturn]] void throw_write_error(const std::filesystem::path& path, int e) {
+  throw WriteError("cannot write " + path.string() + ": " +
+                   (e != 0 ? std::strerror(e) : "the stream failed"));
+}
+
+}  // namespace
+
+std::ofstream open_for_writing(const std::filesystem::path& path) {
+  errno = 0;
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) throw_write_error(path, errno);
+  return out;
+}
+
+void close_checked(std::ofstream& out, const std::filesystem::path& path) {
+  errno = 0;
+  out.close();  // a stream failed earlier stays failed; the close retries what it still holds
+  if (!out) throw_write_error(path, errno);
 }
 
 }  // namespace chatterlab::app

@@ -17,6 +17,7 @@
 #include <set>
 
 #include "analysis/common/summary.h"
+#include "app/core/checked_write.h"
 #include "app/core/input_boundary.h"
 #include "app/core/yaml_reader.h"
 #include "app/formats/matfile.h"
@@ -922,8 +923,7 @@ void write_signals(const std::filesystem::path& file, const std::vector<std::str
                    const std::vector<const Eigen::VectorXd*>& columns) {
   const auto ext = file.extension().string();
   const Eigen::Index n = columns.empty() ? 0 : columns[0]->size();
-  std::ofstream out(file, std::ios::binary);
-  if (!out) throw InputError(file.string() + ": cannot write");
+  std::ofstream out = open_for_writing(file);
   if (ext == ".csv") {
     for (std::size_t j = 0; j < names.size(); ++j) out << (j ? "," : "") << names[j];
     out << '\n';
@@ -957,7 +957,7 @@ void write_signals(const std::filesystem::path& file, const std::vector<std::str
   } else {
     throw InputError(file.string() + ": unsupported signal format '" + ext + "'");
   }
-  if (!out) throw InputError(file.string() + ": write failed");
+  close_checked(out, file);
 }
 
 }  // namespace chatterlab::app

@@ -12,6 +12,7 @@
 
 #include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
+#include "app/core/checked_write.h"
 
 namespace chatterlab::app::frf_text {
 
@@ -384,8 +385,7 @@ Eigen::VectorXcd to_receptance(const Eigen::VectorXd& f_hz, const Eigen::VectorX
 
 void write_csv(const std::filesystem::path& file, const std::vector<std::string>& comments,
                const std::vector<Column>& columns) {
-  std::ofstream out(file);
-  if (!out) throw InputError(file.filename().string() + ": cannot be written");
+  std::ofstream out = open_for_writing(file);
   for (const auto& c : comments) out << "# " << c << "\n";
   Eigen::Index rows = 0;
   for (std::size_t i = 0; i < columns.size(); ++i) {
@@ -405,7 +405,7 @@ void write_csv(const std::filesystem::path& file, const std::vector<std::string>
     }
     out << "\n";
   }
-  if (!out) throw InputError(file.filename().string() + ": write failed");
+  close_checked(out, file);
 }
 
 }  // namespace chatterlab::app::frf_text

@@ -11,6 +11,7 @@
 #include <string_view>
 
 #include "analysis/common/summary.h"
+#include "app/core/checked_write.h"
 
 // Layout of dataset 58 (SDRC/Siemens "Universal Dataset Number 58", as pyuff and the modal
 // packages write it):
@@ -432,8 +433,7 @@ std::vector<Function58> read_uff58(const std::filesystem::path& file) {
 void write_uff58(const std::filesystem::path& file, const std::vector<Function58>& functions,
                  bool binary) {
   for (std::size_t i = 0; i < functions.size(); ++i) check_writable(file, functions[i], i);
-  std::ofstream out(file, std::ios::binary);
-  if (!out) throw InputError(file.string() + ": cannot write");
+  std::ofstream out = open_for_writing(file);
   for (const auto& f : functions) {
     const bool even = f.x.size() == 0;
     const Eigen::Index n = f.samples();
@@ -489,7 +489,7 @@ void write_uff58(const std::filesystem::path& file, const std::vector<Function58
     }
     out << format("%6d\n", -1);
   }
-  if (!out) throw InputError(file.string() + ": write failed");
+  close_checked(out, file);
 }
 
 }  // namespace chatterlab::app::uff

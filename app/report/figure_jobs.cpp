@@ -7,6 +7,7 @@
 #include <set>
 
 #include "analysis/common/summary.h"
+#include "app/core/checked_write.h"
 #include "app/core/parallel.h"
 #include "render/gnuplot_backend.h"
 
@@ -45,8 +46,7 @@ std::string one_line(std::string s) {
 
 void write_figure_csv(const render::Figure& figure, const std::filesystem::path& file,
                       const std::string& title) {
-  std::ofstream out(file);
-  if (!out) throw InputError(file.filename().string() + ": cannot be written");
+  std::ofstream out = open_for_writing(file);
   out << "# chatterlab figure data: " << one_line(title) << "\n";
   // With a shared x axis only the bottom panel carries the x label: it holds for every panel.
   std::string shared_x;
@@ -90,8 +90,7 @@ void write_figure_csv(const render::Figure& figure, const std::filesystem::path&
       }
     }
   }
-  out.close();  // checked after closing: buffered data written only then can fail too
-  if (!out) throw InputError(file.filename().string() + ": write failed");
+  close_checked(out, file);
 }
 
 std::vector<std::string> unique_figure_stems(const std::vector<std::string>& stems) {

@@ -234,6 +234,8 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
     if (!t.status.ok() || kind == nullptr) continue;
     try {
       kind->write_files(t, out);
+    } catch (const WriteError&) {
+      throw;  // the output, not the test: the run fails and the previous report stays
     } catch (const std::exception& e) {
       file_errors.push_back(t.spec->id + ": " + e.what());
     }

@@ -10,6 +10,7 @@
 #include "analysis/common/constants.h"
 #include "analysis/common/seed.h"
 #include "analysis/common/summary.h"
+#include "app/core/checked_write.h"
 #include "app/core/yaml_load.h"
 #include "app/core/yaml_reader.h"
 #include "app/pipeline/registry.h"
@@ -19,9 +20,9 @@ namespace {
 
 void write_text(const std::filesystem::path& p, const std::string& text) {
   std::filesystem::create_directories(p.parent_path());
-  std::ofstream out(p);
+  std::ofstream out = open_for_writing(p);
   out << text;
-  if (!out) throw InputError(p.string() + ": cannot write");
+  close_checked(out, p);
 }
 
 }  // namespace

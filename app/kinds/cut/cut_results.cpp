@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "app/core/checked_write.h"
 #include "app/kinds/cut/cut_kind.h"
 #include "app/report/results_json.h"
 
@@ -313,7 +314,7 @@ void CutKind::write_files(const TestOutcome& t, const std::filesystem::path& rep
   if (!c.estimation.summary.ok()) return;
   const std::filesystem::path file = report_dir / identified_csv_path(t.spec->id);
   std::filesystem::create_directories(file.parent_path());
-  std::ofstream out(file);
+  std::ofstream out = open_for_writing(file);
   out << "# chatterlab " << CHATTERLAB_VERSION << ": values identified from cut test "
       << (t.spec->id.empty() ? std::string(".") : t.spec->id)
       << " (the joint estimate when it succeeded, results.json "
@@ -335,7 +336,7 @@ void CutKind::write_files(const TestOutcome& t, const std::filesystem::path& rep
     out << v.key << ',' << number(v.value) << ',' << unit_of_key(v.key) << ',' << number(v.lo)
         << ',' << number(v.hi) << '\n';
   }
-  if (!out) throw InputError(identified_csv_path(t.spec->id) + ": cannot be written");
+  close_checked(out, file);
 }
 
 // The identification of one cut test (docs/identification.md, "Campaign values").

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 
+#include "app/core/checked_write.h"
 #include "app/core/format.h"
 #include "app/core/input_boundary.h"
 #include "app/core/signals.h"
@@ -702,8 +703,7 @@ void ForceRecordKind::write_files(const TestOutcome& out,
   if (cols.empty()) return;
   const std::filesystem::path file = report_dir / force_file_path(out.spec->id);
   std::filesystem::create_directories(file.parent_path());
-  std::ofstream o(file, std::ios::binary);
-  if (!o) throw InputError(file.filename().string() + ": cannot write");
+  std::ofstream o = open_for_writing(file);
   // Little-endian interleaved floats, one row per record sample (format section 4).
   std::vector<float> row(cols.size());
   for (Eigen::Index k = 0; k < r.samples; ++k) {
@@ -711,7 +711,7 @@ void ForceRecordKind::write_files(const TestOutcome& out,
     o.write(reinterpret_cast<const char*>(row.data()),
             static_cast<std::streamsize>(row.size() * sizeof(float)));
   }
-  if (!o) throw InputError(file.filename().string() + ": cannot write");
+  close_checked(o, file);
 }
 
 std::string ForceRecordKind::note(const TestOutcome& out) const {

@@ -12,6 +12,7 @@
 #include "analysis/common/summary.h"
 #include "analysis/grinding/observability.h"
 #include "app/core/archive_analysis.h"
+#include "app/core/checked_write.h"
 #include "app/core/format.h"
 #include "app/core/input_boundary.h"
 #include "app/core/parallel.h"
@@ -662,8 +663,7 @@ json GrindingKind::results(const TestOutcome& out) const {
 
 void write_grinding_trajectory(const std::filesystem::path& file, const g::GrindingRun& run) {
   std::filesystem::create_directories(file.parent_path());
-  std::ofstream o(file);
-  if (!o) throw InputError(file.string() + ": cannot write");
+  std::ofstream o = open_for_writing(file);
   const auto states = static_cast<std::size_t>(run.states);
   o << "cycle,j";
   for (std::size_t k = 0; k < states; ++k) o << ',' << kStateKeys[k] << ',' << kSigmaKeys[k];
@@ -683,7 +683,7 @@ void write_grinding_trajectory(const std::filesystem::path& file, const g::Grind
     }
     o << '\n';
   }
-  if (!o) throw InputError(file.string() + ": cannot write");
+  close_checked(o, file);
 }
 
 void GrindingKind::write_files(const TestOutcome& out,

@@ -5,6 +5,7 @@
 #include <set>
 
 #include "analysis/common/summary.h"
+#include "app/core/checked_write.h"
 #include "app/core/signals.h"
 #include "app/kinds/grinding/grinding_kind.h"
 
@@ -228,18 +229,18 @@ void write_test_yaml(const std::filesystem::path& file, const GrindingSynthSpec&
 std::string field(double v) { return std::isfinite(v) ? synth_number(v) : ""; }
 
 void write_inspections(const std::filesystem::path& file, const std::vector<g::Inspection>& ins) {
-  std::ofstream o(file);
+  std::ofstream o = open_for_writing(file);
   o << "cycle,available_cycle,ds_mm,Ra_um,roundness_um\n";
   for (const auto& i : ins) {
     o << i.cycle << ',' << i.available_cycle << ',' << field(i.ds_mm) << ',' << field(i.Ra_um)
       << ',' << field(i.roundness_um) << '\n';
   }
-  if (!o) throw InputError(file.string() + ": cannot write");
+  close_checked(o, file);
 }
 
 // cycle,j,Vw_mm2,v_mm_s,ds_mm,R0_um at j = 0, 10, 20, ... and n_i of every cycle.
 void write_truth_trajectory(const std::filesystem::path& file, const g::GrindingSeries& series) {
-  std::ofstream o(file);
+  std::ofstream o = open_for_writing(file);
   o << "cycle,j,Vw_mm2,v_mm_s,ds_mm,R0_um\n";
   Eigen::Index row = 0;
   for (std::size_t c = 0; c < series.n.size(); ++c) {
@@ -251,7 +252,7 @@ void write_truth_trajectory(const std::filesystem::path& file, const g::Grinding
       o << '\n';
     }
   }
-  if (!o) throw InputError(file.string() + ": cannot write");
+  close_checked(o, file);
 }
 
 }  // namespace

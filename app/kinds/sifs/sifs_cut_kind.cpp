@@ -6,6 +6,7 @@
 #include "analysis/common/constants.h"
 #include "analysis/signal/resample.h"
 #include "app/core/archive_analysis.h"
+#include "app/core/checked_write.h"
 #include "app/core/format.h"
 #include "app/core/parallel.h"
 #include "app/core/vectors.h"
@@ -480,8 +481,7 @@ void SifsCutKind::write_files(const TestOutcome& out,
   const auto& r = out.result_of<SifsCutResult>();
   const std::filesystem::path file = report_dir / sifs_compensated_path(out.spec->id);
   std::filesystem::create_directories(file.parent_path());
-  std::ofstream o(file);
-  if (!o) throw InputError(file.filename().string() + ": cannot write");
+  std::ofstream o = open_for_writing(file);
   o << "t,fx,fy\n";
   const Eigen::VectorXd& x = r.axes[0].compensated_n;
   const Eigen::VectorXd& y = r.axes[1].compensated_n;
@@ -491,7 +491,7 @@ void SifsCutKind::write_files(const TestOutcome& out,
                   x(k), y(k));
     o << buf;
   }
-  if (!o) throw InputError(file.filename().string() + ": cannot write");
+  close_checked(o, file);
 }
 
 json SifsCutKind::settings(const CampaignSpec& c) const {

@@ -11,6 +11,7 @@
 #include "analysis/common/constants.h"
 #include "analysis/common/summary.h"
 #include "analysis/signal/harmonic_fit.h"
+#include "app/core/checked_write.h"
 #include "app/core/signals.h"
 
 namespace chatterlab::app {
@@ -504,7 +505,7 @@ int write_taps(const SifsSynthSpec& spec, SynthContext& ctx) {
 
 void write_force_file(const std::filesystem::path& file, const s::CutSynth& cut, double fs_hz) {
   std::filesystem::create_directories(file.parent_path());
-  std::ofstream out(file);
+  std::ofstream out = open_for_writing(file);
   out << "t,fx,fy,fz\n";
   char line[128];
   for (Eigen::Index k = 0; k < cut.tip_force_n.rows(); ++k) {
@@ -512,7 +513,7 @@ void write_force_file(const std::filesystem::path& file, const s::CutSynth& cut,
                   cut.tip_force_n(k, 0), cut.tip_force_n(k, 1), cut.tip_force_n(k, 2));
     out << line;
   }
-  if (!out) throw InputError(file.string() + ": cannot write");
+  close_checked(out, file);
 }
 
 YAML::Node unbalance_node(const std::vector<s::UnbalanceTerm>& terms) {

@@ -1,10 +1,10 @@
 // The --out folder as the chatterlab binary uses it (docs/cli.md#the-output-folder, issue 16
 // "Output"): a report killed with SIGKILL at a random moment leaves either the previous report
 // or the new one, never a mix, and nothing outside --out but the temporary folder and the lock
-// beside it; a report whose results.json cannot be written fails naming it and leaves the
-// previous report as it was; a second run on a locked folder, an --out inside the campaign and
-// an --out that is a symbolic link are refused; two tests whose ids give the same figure stem
-// get a figure file each.
+// beside it; a report whose results.json, or a file of a test, cannot be written fails naming it
+// and leaves the previous report as it was; a second run on a locked folder, an --out inside the
+// campaign and an --out that is a symbolic link are refused; two tests whose ids give the same
+// figure stem get a figure file each.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -204,17 +205,21 @@ TEST_F(CliOut, KilledReportLeavesThePreviousOrTheNewOneNeverAMix) {
 // as it was, no temporary folder left.
 TEST_F(CliOut, AFailedWriteLeavesThePreviousReport) {
   TempDir d;
+  // The dyno-slot tests only: the tap tests' own files (frf.csv, 2 MB) come before results.json
+  // and would fail first (AFileCutByTheLastBufferedWriteFailsTheRun).
+  const fs::path c = copy_campaign(d);
+  fs::remove_all(c / "tap");
   const fs::path out = d.path() / "o";
   const BinaryRun first =
-      run("report " + quoted(campaign()) + " --out " + quoted(out) + " --no-pdf --quiet", d);
+      run("report " + quoted(c) + " --out " + quoted(out) + " --no-pdf --quiet", d);
   ASSERT_EQ(first.status, kExitOk) << first.err;
   const std::string before = file_text(out / "results.json");
   const Files before_files = files_below(out);
-  ASSERT_GT(before.size(), 8192u);
+  ASSERT_GT(before.size(), 4096u);  // sh's ulimit -f counts blocks of 512 bytes
 
   const std::string cmd = "trap '' XFSZ; ulimit -f 8; exec " + quoted(CHATTERLAB_BINARY) +
-                          " report " + quoted(campaign()) + " --out " + quoted(out) +
-                          " --no-pdf > " + quoted(d.path() / "stdout.txt") + " 2> " +
+                          " report " + quoted(c) + " --out " + quoted(out) + " --no-pdf > " +
+                          quoted(d.path() / "stdout.txt") + " 2> " +
                           quoted(d.path() / "stderr.txt");
   std::ofstream(d.path() / "run.sh") << cmd << "\n";
   const int rc = std::system(("sh " + quoted(d.path() / "run.sh")).c_str());
@@ -228,7 +233,48 @@ TEST_F(CliOut, AFailedWriteLeavesThePreviousReport) {
   EXPECT_EQ(file_text(out / "results.json"), before);
   EXPECT_EQ(files_below(out), before_files);
   EXPECT_EQ(names_in(d.path()),
-            (Files{".o.chatterlab-lock", "o", "run.sh", "stderr.txt", "stdout.txt"}));
+            (Files{".o.chatterlab-lock", "campaign", "o", "run.sh", "stderr.txt", "stdout.txt"}));
+}
+
+// A test's own file that cannot be written whole (tap/x/frf.csv, the largest file of the report,
+// under a file size limit that lets through every full 8 KiB block of it but not the last,
+// partial one, which the stream writes only when it is closed): exit 1 naming the file, nothing
+// said to be written, the previous report as it was. Before the stream was checked after its
+// close, the run ended "ok" with the file cut at the limit.
+TEST_F(CliOut, AFileCutByTheLastBufferedWriteFailsTheRun) {
+  TempDir d;
+  const fs::path out = d.path() / "o";
+  const BinaryRun first =
+      run("report " + quoted(campaign()) + " --out " + quoted(out) + " --no-pdf --quiet", d);
+  ASSERT_EQ(first.status, kExitOk) << first.err;
+  const fs::path frf = out / "tap" / "x" / "frf.csv";
+  const std::uintmax_t size = fs::file_size(frf);
+  const std::uintmax_t limit = size / 8192 * 8192;  // whole blocks of the stream's 8 KiB buffer
+  ASSERT_GT(size, limit);
+  std::uintmax_t others = 0;  // every other file must fit under the limit
+  for (const auto& e : fs::recursive_directory_iterator(out)) {
+    if (e.is_regular_file() && e.path() != frf) others = std::max(others, e.file_size());
+  }
+  ASSERT_LT(others, limit);
+  const std::string before = file_text(out / "results.json");
+  const Files before_files = files_below(out);
+
+  const std::string cmd = "trap '' XFSZ; ulimit -f " + std::to_string(limit / 1024) + "; exec " +
+                          quoted(CHATTERLAB_BINARY) + " report " + quoted(campaign()) + " --out " +
+                          quoted(out) + " --no-pdf > " + quoted(d.path() / "stdout.txt") + " 2> " +
+                          quoted(d.path() / "stderr.txt");
+  std::ofstream(d.path() / "run.sh") << cmd << "\n";
+  const int rc = std::system(("bash " + quoted(d.path() / "run.sh")).c_str());  // -f in KiB
+  ASSERT_TRUE(WIFEXITED(rc));
+  EXPECT_EQ(WEXITSTATUS(rc), kExitInputError);
+  const std::string err = file_text(d.path() / "stderr.txt");
+  EXPECT_NE(err.find("chatterlab report: cannot write " + frf.string() + ": File too large"),
+            std::string::npos)
+      << err;
+  EXPECT_EQ(file_text(d.path() / "stdout.txt").find("wrote"), std::string::npos);
+  EXPECT_EQ(file_text(out / "results.json"), before);
+  EXPECT_EQ(files_below(out), before_files);
+  EXPECT_EQ(fs::file_size(frf), size);
 }
 
 // A campaign or spec that cannot be read: exit 1, the previous output as it was, no temporary
