@@ -260,6 +260,12 @@ CampaignSpec load_campaign(const fs::path& root_in, const KindRegistry& kinds) {
     c.errors.push_back("campaign.yaml: file not found in " + c.root.string());
     return c;
   }
+  // campaign.yaml, truth.yaml and every test.yaml are inside the input boundary like the files
+  // a test names: a regular file, a symlink only when it stays inside the campaign.
+  if (const InputFileCheck own = check_input_file(c.root, c.root, "campaign.yaml"); !own.ok()) {
+    c.errors.push_back("campaign.yaml: " + own.reason());
+    return c;
+  }
   const YAML::Node root = load_yaml(yaml, "campaign.yaml", &c.errors);
   if (root) {
     YamlReader r("campaign.yaml");
@@ -311,7 +317,15 @@ CampaignSpec load_campaign(const fs::path& root_in, const KindRegistry& kinds) {
     }
   }
   c.truth_file = c.root / "truth.yaml";
-  c.has_truth = fs::exists(c.truth_file);
+  std::error_code truth_ec;
+  if (fs::symlink_status(c.truth_file, truth_ec).type() != fs::file_type::not_found) {
+    const InputFileCheck truth = check_input_file(c.root, c.root, "truth.yaml");
+    c.has_truth = truth.ok();
+    if (!truth.ok()) {
+      c.warnings.push_back("truth.yaml: " + truth.reason() +
+                           "; not read (no comparison with the truth)");
+    }
+  }
 
   std::error_code ec;
   for (auto it = fs::recursive_directory_iterator(
@@ -319,26 +333,23 @@ CampaignSpec load_campaign(const fs::path& root_in, const KindRegistry& kinds) {
        it != fs::recursive_directory_iterator(); it.increment(ec)) {
     if (ec) break;
     if (it->path().filename() != "test.yaml") continue;
-    // A test.yaml that is a symlink is read only when it stays inside the campaign (the input
-    // boundary); a folder or FIFO of that name is no test. Status errors (a symlink loop) are
-    // no exception.
-    std::error_code st_ec;
-    if (it->is_symlink(st_ec)) {
-      const InputFileCheck link = check_input_file(c.root, it->path().parent_path(), "test.yaml");
-      if (!link.ok() && link.problem.find("not a regular file") != std::string::npos) continue;
-      if (!link.ok()) {
-        TestSpec t;
-        t.folder = it->path().parent_path();
-        t.campaign_root = c.root;
-        t.id = t.folder.lexically_relative(c.root).generic_string();
-        if (t.id == ".") t.id = "";
-        t.yaml_label = (t.id.empty() ? "" : t.id + "/") + "test.yaml";
-        t.errors.push_back(t.yaml_label + ": " + link.problem.substr(link.problem.find(": ") + 2));
-        c.tests.push_back(std::move(t));
-        continue;
-      }
+    // A test.yaml is read only when it is a regular file and, a symlink, stays inside the
+    // campaign (the input boundary); anything else of that name (a folder, a FIFO, a link
+    // leading out) is a test skipped with the reason.
+    const fs::path folder = it->path().parent_path();
+    const InputFileCheck check = check_input_file(c.root, folder, "test.yaml");
+    if (check.ok()) {
+      c.tests.push_back(load_test(c.root, it->path(), kinds));
+      continue;
     }
-    if (it->is_regular_file(st_ec)) c.tests.push_back(load_test(c.root, it->path(), kinds));
+    TestSpec t;
+    t.folder = folder;
+    t.campaign_root = c.root;
+    t.id = t.folder.lexically_relative(c.root).generic_string();
+    if (t.id == ".") t.id = "";
+    t.yaml_label = (t.id.empty() ? "" : t.id + "/") + "test.yaml";
+    t.errors.push_back(t.yaml_label + ": " + check.reason());
+    c.tests.push_back(std::move(t));
   }
   std::sort(c.tests.begin(), c.tests.end(),
             [](const TestSpec& a, const TestSpec& b) { return a.id < b.id; });

@@ -20,6 +20,12 @@ struct InputFileCheck {
   std::filesystem::path path;  // test folder / value, lexically normal (when problem is empty)
   std::string problem;         // "'<value>': is a FIFO, not a regular file"; empty: accepted
   bool ok() const { return problem.empty(); }
+  // The problem without the quoted value in front of it ("is a FIFO, not a regular file"), for
+  // a value the message names otherwise (campaign.yaml, a test.yaml).
+  std::string reason() const {
+    const std::size_t at = problem.find("': ");
+    return at == std::string::npos ? problem : problem.substr(at + 3);
+  }
 };
 
 // Checks `value` (a file key's value as written in a test.yaml in `test_folder`) against the

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -16,6 +17,8 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "analysis/common/summary.h"
 #include "analysis/cutting/slot_synth.h"
@@ -302,12 +305,78 @@ TEST(InputBoundary, LoaderSurvivesLoopsAndRefusesTestYamlLeadingOut) {
   fs::create_symlink(d.path() / "secret.yaml", d.path() / "c/out/test.yaml");
   const CampaignSpec c = load_campaign(d.path() / "c");
   EXPECT_TRUE(c.errors.empty());
-  ASSERT_EQ(c.tests.size(), 1u);
+  ASSERT_EQ(c.tests.size(), 2u);
   EXPECT_EQ(c.tests[0].id, "out");
   ASSERT_EQ(c.tests[0].errors.size(), 1u);
   EXPECT_EQ(c.tests[0].errors[0],
             "out/test.yaml: must lie inside the campaign folder (a symlink leads outside)");
   EXPECT_TRUE(c.tests[0].kind.empty());
+  EXPECT_EQ(c.tests[1].id, "x");
+  ASSERT_EQ(c.tests[1].errors.size(), 1u);
+  EXPECT_EQ(c.tests[1].errors[0], "x/test.yaml: is a symlink loop, not a regular file");
+}
+
+// campaign.yaml, truth.yaml and each test.yaml are inside the boundary too: a campaign.yaml
+// leading out or of the wrong type is a campaign error (nothing of it read), a truth.yaml
+// leading out a warning (no comparison with the truth, its values never read), a test.yaml that
+// is a FIFO, a folder or a dangling link a test skipped with the reason (before, such a test
+// silently vanished from the campaign). Nothing hangs on the FIFOs.
+TEST(InputBoundary, CampaignTruthAndTestYamlsAreInsideTheBoundary) {
+  TempDir d;
+  d.write("secret/campaign.yaml", kCampaignYaml);
+  d.write("secret/truth.yaml", std::string("note: ") + kSecret + "\n");
+  auto load = std::async(std::launch::async, [&] {
+    std::vector<CampaignSpec> out;
+    // campaign.yaml a symlink leading out, then a FIFO.
+    fs::create_directories(d.path() / "a");
+    fs::create_symlink(d.path() / "secret/campaign.yaml", d.path() / "a/campaign.yaml");
+    out.push_back(load_campaign(d.path() / "a"));
+    fs::create_directories(d.path() / "b");
+    EXPECT_EQ(::mkfifo((d.path() / "b/campaign.yaml").c_str(), 0600), 0);
+    out.push_back(load_campaign(d.path() / "b"));
+    // A good campaign.yaml; truth.yaml leading out; test.yaml a FIFO, a folder, a dangling link.
+    d.write("c/campaign.yaml", kCampaignYaml);
+    fs::create_symlink(d.path() / "secret/truth.yaml", d.path() / "c/truth.yaml");
+    fs::create_directories(d.path() / "c/fifo");
+    EXPECT_EQ(::mkfifo((d.path() / "c/fifo/test.yaml").c_str(), 0600), 0);
+    fs::create_directories(d.path() / "c/folder/test.yaml");
+    fs::create_directories(d.path() / "c/gone");
+    fs::create_symlink("nothing.yaml", d.path() / "c/gone/test.yaml");
+    out.push_back(load_campaign(d.path() / "c"));
+    return out;
+  });
+  if (load.wait_for(std::chrono::seconds(60)) != std::future_status::ready) {
+    ADD_FAILURE() << "load_campaign did not finish within 60 s (a FIFO opened?)";
+    std::_Exit(1);
+  }
+  std::vector<CampaignSpec> c = load.get();  // validate_campaign takes it to change
+  ASSERT_EQ(c.size(), 3u);
+  EXPECT_EQ(c[0].errors, std::vector<std::string>{"campaign.yaml: must lie inside the campaign "
+                                                  "folder (a symlink leads outside)"});
+  EXPECT_TRUE(c[0].tests.empty());
+  EXPECT_EQ(c[1].errors, std::vector<std::string>{"campaign.yaml: is a FIFO, not a regular file"});
+
+  EXPECT_TRUE(c[2].errors.empty());
+  EXPECT_FALSE(c[2].has_truth);
+  EXPECT_NE(std::find(c[2].warnings.begin(), c[2].warnings.end(),
+                      "truth.yaml: must lie inside the campaign folder (a symlink leads outside); "
+                      "not read (no comparison with the truth)"),
+            c[2].warnings.end());
+  ASSERT_EQ(c[2].tests.size(), 3u);
+  const std::map<std::string, std::string> want = {
+      {"fifo", "fifo/test.yaml: is a FIFO, not a regular file"},
+      {"folder", "folder/test.yaml: is a folder, not a regular file"},
+      {"gone", "gone/test.yaml: file not found"}};
+  for (const TestSpec& t : c[2].tests) {
+    ASSERT_EQ(want.count(t.id), 1u) << t.id;
+    EXPECT_EQ(t.errors, std::vector<std::string>{want.at(t.id)}) << t.id;
+  }
+  // validate counts them as tests found and not usable, and says why.
+  std::ostringstream text;
+  EXPECT_EQ(validate_campaign(c[2], text), 1);
+  EXPECT_NE(text.str().find("3 tests found, 0 usable"), std::string::npos) << text.str();
+  for (const auto& [id, why] : want) EXPECT_NE(text.str().find(why), std::string::npos) << why;
+  EXPECT_EQ(text.str().find(kSecret), std::string::npos);
 }
 
 }  // namespace
