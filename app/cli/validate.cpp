@@ -27,8 +27,9 @@ int validate_campaign(CampaignSpec& c, std::ostream& out) {
     const std::vector<std::string>& warnings = t.warnings;
     const bool usable = errors.empty();
     const char* status = !usable ? "UNUSABLE" : "ok";
-    out << "  " << std::left << std::setw(9) << status << std::setw(28)
-        << (t.id.empty() ? "." : t.id) << (t.kind.empty() ? "?" : t.kind) << "\n";
+    // An id longer than its column keeps one space before the kind.
+    out << "  " << std::left << std::setw(9) << status << std::setw(27)
+        << (t.id.empty() ? "." : t.id) << ' ' << (t.kind.empty() ? "?" : t.kind) << "\n";
     for (const auto& e : errors) out << "      error: " << e << "\n";
     for (const auto& w : warnings) out << "      warning: " << w << "\n";
     if (!usable) ++unusable;

@@ -89,10 +89,16 @@ class TestKind {
   virtual std::vector<std::filesystem::path> input_files(const TestSpec&) const { return {}; }
   // Channels the record must hold.
   virtual std::vector<std::string> required_channels(const TestSpec&) const = 0;
-  // Checks of the record against the test.yaml once its length is known (a window inside it).
+  // Checks of the record against the test.yaml once its length is known (a window inside it, a
+  // reference record as long as it).
   virtual std::vector<std::string> check_record(const TestSpec&, double /*duration_s*/) const {
     return {};
   }
+  // Reads the files input_files() names that do not depend on the record (a measured FRF, an
+  // inspections table) with the step's own reader and returns its refusals: `validate` and
+  // `report` run this alike before computing (pipeline check_signals), so that a file the step
+  // would refuse makes the test unusable in both.
+  virtual std::vector<std::string> check_files(const TestSpec&) const { return {}; }
 
   virtual std::vector<Need> needs(const TestSpec&) const { return {}; }
   virtual std::vector<std::string> provides(const TestSpec&) const { return {}; }

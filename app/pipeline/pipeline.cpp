@@ -352,9 +352,9 @@ CampaignResults run_campaign(CampaignSpec campaign, const PipelineOptions& optio
 void check_signals(TestSpec& t, const KindRegistry& kinds) {
   const TestKind* kind = kinds.find(t.kind);
   if (!t.usable() || !kind) return;
-  // A usable test without a data file has none to open: a tap test from a measured FRF
-  // (test.yaml `frf:`; the loader requires data of every other test). Its file is read and
-  // checked by the kind's run.
+  for (auto& e : kind->check_files(t)) t.errors.push_back(std::move(e));
+  // A test without a data file has none to open: a tap test from a measured FRF (test.yaml
+  // `frf:`, read by check_files; the loader requires data of every other test).
   if (t.data.relative_file.empty() && t.kind == "tap") return;
   const std::string label = t.data_label();
   try {

@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <map>
+#include <optional>
 
 #include "app/core/checked_write.h"
 #include "app/core/format.h"
@@ -386,6 +388,44 @@ std::vector<std::string> ForceRecordKind::required_channels(const TestSpec&) con
   return {"Fx", "Fy"};
 }
 
+namespace {
+
+// The reference force of a test (test.yaml `reference.force`): each channel it names, as long
+// as the record (`samples`) and finite, or InputError. The step and check_record read it alike.
+std::map<char, Eigen::VectorXd> read_reference_force(const TestSpec& t, const ForceRecordSpec& s,
+                                                     Eigen::Index samples) {
+  std::map<char, Eigen::VectorXd> reference;
+  DataSpec d = s.reference;
+  d.file = resolve_input_file(t, "reference.force.file", d.relative_file);
+  d.sample_rate_hz = 0.0;
+  const std::string rl = t.file_label(d.relative_file);
+  const SignalTable rt = SignalTable::open(d, rl);
+  if (static_cast<Eigen::Index>(rt.samples()) != samples) {
+    throw InputError(t.yaml_label + ": key 'reference.force.file': " + rl + " holds " +
+                     std::to_string(rt.samples()) + " samples, the record " +
+                     std::to_string(samples));
+  }
+  for (const auto& c : s.reference.channels) {
+    reference[c[1]] = rt.channel(c);
+    if (!reference[c[1]].allFinite()) {
+      throw InputError(t.yaml_label + ": key 'reference.force.file': " + rl + " channel " + c +
+                       " is not finite everywhere");
+    }
+  }
+  return reference;
+}
+
+// The record's length against the format's evaluation window (0.05 s to the end less 0.01 s).
+std::optional<std::string> evaluation_window_empty(const std::string& label, Eigen::Index samples,
+                                                   double fs) {
+  if (forcerec::evaluation_window(samples, fs).size() > 0) return std::nullopt;
+  return label + ": " + std::to_string(samples) +
+         " samples: the record is shorter than 0.06 s, the format's evaluation window (0.05 s to "
+         "the end less 0.01 s) is empty";
+}
+
+}  // namespace
+
 std::vector<std::string> ForceRecordKind::check_record(const TestSpec& t, double duration_s) const {
   const auto& s = t.kind_spec<ForceRecordSpec>();
   std::vector<std::string> e;
@@ -397,6 +437,15 @@ std::vector<std::string> ForceRecordKind::check_record(const TestSpec& t, double
   if (s.cut_window_s) {
     if (auto m = window_outside(t, "cut_window_s", s.cut_window_s->second, duration_s)) {
       e.push_back(*m);
+    }
+  }
+  const auto samples = static_cast<Eigen::Index>(std::llround(duration_s * t.sample_rate_hz));
+  if (auto m = evaluation_window_empty(t.data_label(), samples, t.sample_rate_hz)) e.push_back(*m);
+  if (s.has_reference) {
+    try {
+      (void)read_reference_force(t, s, samples);
+    } catch (const InputError& x) {
+      e.push_back(x.what());
     }
   }
   return e;
@@ -439,32 +488,11 @@ void ForceRecordKind::run(const TestSpec& t, const CampaignValues& in, const Run
         "the cut window holds no whole tooth period after 0.05 s: no "
         "harmonics");
   }
-  if (res->evaluation_window.size() == 0) {
-    throw InputError(label + ": " + std::to_string(N) +
-                     " samples: the record is shorter than 0.06 s, the format's evaluation "
-                     "window (0.05 s to the end less 0.01 s) is empty");
-  }
+  if (auto m = evaluation_window_empty(label, N, fs)) throw InputError(*m);
 
   // The reference force (interval means, raw floats).
-  std::map<char, Eigen::VectorXd> reference;
-  if (s.has_reference) {
-    DataSpec d = s.reference;
-    d.file = resolve_input_file(t, "reference.force.file", d.relative_file);
-    d.sample_rate_hz = 0.0;
-    const std::string rl = t.file_label(d.relative_file);
-    const SignalTable rt = SignalTable::open(d, rl);
-    if (static_cast<Eigen::Index>(rt.samples()) != N) {
-      throw InputError(t.yaml_label + ": key 'reference.force.file': " + rl + " holds " +
-                       std::to_string(rt.samples()) + " samples, the record " + std::to_string(N));
-    }
-    for (const auto& c : s.reference.channels) {
-      reference[c[1]] = rt.channel(c);
-      if (!reference[c[1]].allFinite()) {
-        throw InputError(t.yaml_label + ": key 'reference.force.file': " + rl + " channel " + c +
-                         " is not finite everywhere");
-      }
-    }
-  }
+  const std::map<char, Eigen::VectorXd> reference =
+      s.has_reference ? read_reference_force(t, s, N) : std::map<char, Eigen::VectorXd>{};
 
   for (char a : kAxes) {
     const std::string ch = channel_of(a);

@@ -444,6 +444,20 @@ std::vector<g::Inspection> read_inspections(const std::filesystem::path& file,
   return out;
 }
 
+// The inspections table read as the step reads it: a table it would refuse.
+std::vector<std::string> GrindingKind::check_files(const TestSpec& t) const {
+  const auto* s = dynamic_cast<const GrindingSpec*>(t.params.get());
+  if (!s || s->inspections_file.empty()) return {};
+  std::vector<std::string> warnings;  // given again by the run
+  try {
+    (void)read_inspections(resolve_input_file(t, "inspections.file", s->inspections_file),
+                           inspections_label(t, *s), warnings);
+  } catch (const InputError& e) {
+    return {e.what()};
+  }
+  return {};
+}
+
 void GrindingKind::run(const TestSpec& t, const CampaignValues&, const RunContext& ctx,
                        TestOutcome& out) const {
   const GrindingSpec& s = t.kind_spec<GrindingSpec>();

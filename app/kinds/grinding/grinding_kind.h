@@ -65,6 +65,7 @@ class GrindingKind : public TestKind {
   std::shared_ptr<const KindSpec> parse(const YAML::Node& root, YamlReader& r) const override;
   std::vector<std::string> check_campaign(const CampaignSpec& c, const TestSpec& t) const override;
   std::vector<std::filesystem::path> input_files(const TestSpec& t) const override;
+  std::vector<std::string> check_files(const TestSpec& t) const override;
   std::vector<std::string> required_channels(const TestSpec&) const override {
     return {"cycle", "u_mm_s", "power", "Dw_mm"};
   }

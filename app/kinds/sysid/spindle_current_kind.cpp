@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <complex>
+#include <optional>
 
 #include "analysis/common/constants.h"
 #include "analysis/signal/resample.h"
@@ -169,6 +170,49 @@ std::vector<std::string> SpindleCurrentKind::required_channels(const TestSpec&) 
   return {"current"};
 }
 
+namespace {
+
+// The windows' lengths in samples of the record (`n` samples at `fs`), which the observer's
+// friction mean and tooth-passing amplitude need.
+std::optional<std::string> short_windows(const TestSpec& t, const SpindleCurrentSpec& s, double fs,
+                                         Eigen::Index n) {
+  if (sample_at(s.air_hi_s, fs, n) - sample_at(s.air_lo_s, fs, n) >= 2 &&
+      sample_at(s.cut_hi_s, fs, n) - sample_at(s.cut_lo_s, fs, n) >= 2) {
+    return std::nullopt;
+  }
+  return t.yaml_label + ": air_window_s and cut_window_s must each hold >= 2 samples";
+}
+
+// The dynamometer's torque (test.yaml `dynamometer.file`, column `torque`) resampled to the
+// current's rate `fs`, at least `needed` samples long (the end of both windows), or InputError.
+// The step and check_record read it alike.
+Eigen::VectorXd read_dyno_torque(const TestSpec& t, const SpindleCurrentSpec& s, double fs,
+                                 Eigen::Index needed) {
+  const InputFileCheck f = check_input_file(t.campaign_root, t.folder, s.dyno_file);
+  if (!f.ok()) throw InputError(input_file_message(t.yaml_label, "dynamometer.file", f.problem));
+  DataSpec d;
+  d.file = f.path;
+  d.relative_file = s.dyno_file;
+  const std::string dlabel = t.file_label(s.dyno_file);
+  const SignalTable dt = SignalTable::open(d, dlabel);
+  if (!dt.has("torque")) throw InputError(dlabel + ": has no column 'torque' (N*m)");
+  const Eigen::VectorXd raw = dt.channel("torque");
+  if (!raw.allFinite()) throw InputError(dlabel + ": column torque has a non-finite sample");
+  Eigen::VectorXd ref;
+  try {
+    ref = signal::RationalResampler(s.dyno_rate_hz, fs).apply(raw);
+  } catch (const InputError& e) {
+    throw InputError(t.yaml_label + ": key 'dynamometer.sample_rate_hz': " + e.what());
+  }
+  if (ref.size() < needed) {
+    throw InputError(dlabel + ": ends at " + fmt_sig(raw.size() / s.dyno_rate_hz, 6) +
+                     " s, before the end of air_window_s or cut_window_s");
+  }
+  return ref;
+}
+
+}  // namespace
+
 std::vector<std::string> SpindleCurrentKind::check_record(const TestSpec& t,
                                                           double duration_s) const {
   const auto& s = t.kind_spec<SpindleCurrentSpec>();
@@ -178,6 +222,18 @@ std::vector<std::string> SpindleCurrentKind::check_record(const TestSpec& t,
     if (hi > duration_s * 1.0001) {
       e.push_back(t.yaml_label + ": key '" + key + "' ends at " + fmt_sig(hi, 6) +
                   " s, after the record (" + fmt_sig(duration_s, 6) + " s)");
+    }
+  }
+  if (!e.empty()) return e;
+  const double fs = t.sample_rate_hz;
+  const auto n = static_cast<Eigen::Index>(std::llround(duration_s * fs));
+  if (auto m = short_windows(t, s, fs, n)) return {*m};
+  if (!s.dyno_file.empty()) {
+    try {
+      (void)read_dyno_torque(t, s, fs,
+                             std::max(sample_at(s.cut_hi_s, fs, n), sample_at(s.air_hi_s, fs, n)));
+    } catch (const InputError& x) {
+      e.push_back(x.what());
     }
   }
   return e;
@@ -216,9 +272,7 @@ void SpindleCurrentKind::run(const TestSpec& t, const CampaignValues& in, const 
   const Eigen::Index a0 = sample_at(s.air_lo_s, fs, n), a1 = sample_at(s.air_hi_s, fs, n);
   res->cut_begin = sample_at(s.cut_lo_s, fs, n);
   res->cut_end = sample_at(s.cut_hi_s, fs, n);
-  if (a1 - a0 < 2 || res->cut_end - res->cut_begin < 2) {
-    throw InputError(t.yaml_label + ": air_window_s and cut_window_s must each hold >= 2 samples");
-  }
+  if (auto m = short_windows(t, s, fs, n)) throw InputError(*m);
   if (!current.allFinite()) throw InputError(label + ": channel current has a non-finite sample");
   // Step 1: the friction current of the air window (001 sec. 3.1).
   res->friction_current_A = current.segment(a0, a1 - a0).mean();
@@ -277,26 +331,7 @@ void SpindleCurrentKind::run(const TestSpec& t, const CampaignValues& in, const 
   res->tooth_pass_amplitude_Nm = 2.0 * std::abs(acc) / static_cast<double>(cn);
   // Step 7: the dynamometer, resampled to the current's rate.
   if (!s.dyno_file.empty()) {
-    const InputFileCheck f = check_input_file(t.campaign_root, t.folder, s.dyno_file);
-    if (!f.ok()) throw InputError(input_file_message(t.yaml_label, "dynamometer.file", f.problem));
-    DataSpec d;
-    d.file = f.path;
-    d.relative_file = s.dyno_file;
-    const std::string dlabel = t.file_label(s.dyno_file);
-    const SignalTable dt = SignalTable::open(d, dlabel);
-    if (!dt.has("torque")) throw InputError(dlabel + ": has no column 'torque' (N*m)");
-    const Eigen::VectorXd raw = dt.channel("torque");
-    if (!raw.allFinite()) throw InputError(dlabel + ": column torque has a non-finite sample");
-    Eigen::VectorXd ref;
-    try {
-      ref = signal::RationalResampler(s.dyno_rate_hz, fs).apply(raw);
-    } catch (const InputError& e) {
-      throw InputError(t.yaml_label + ": key 'dynamometer.sample_rate_hz': " + e.what());
-    }
-    if (ref.size() < std::max(res->cut_end, a1)) {
-      throw InputError(dlabel + ": ends at " + fmt_sig(raw.size() / s.dyno_rate_hz, 6) +
-                       " s, before the end of air_window_s or cut_window_s");
-    }
+    Eigen::VectorXd ref = read_dyno_torque(t, s, fs, std::max(res->cut_end, a1));
     ref.conservativeResize(std::min(ref.size(), n));
     const double air = ref.segment(a0, a1 - a0).mean();
     ref.array() -= air;

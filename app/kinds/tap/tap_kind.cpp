@@ -7,6 +7,7 @@
 #include <set>
 
 #include "analysis/common/constants.h"
+#include "analysis/common/number_text.h"
 #include "analysis/frf/hits.h"
 #include "analysis/frf/mode.h"
 #include "app/core/archive_analysis.h"
@@ -163,12 +164,39 @@ std::vector<std::string> TapKind::required_channels(const TestSpec& t) const {
 }
 
 // The record's length, which the step would refuse (validate and report run this alike).
+// The hit windows inside the record, by the samples they take as the hit step does
+// (analysis/frf/hits.cpp, hits_from_windows).
 std::vector<std::string> TapKind::check_record(const TestSpec& t, double duration_s) const {
   const double samples = std::round(duration_s * t.sample_rate_hz);
   if (samples < frf::kMinTapRecordSamples) {
     return {t.yaml_label + ": key 'data.file' '" + t.data.relative_file + "': the record has " +
             fmt_sig(samples, 6) + " samples: a tap test needs at least " +
             std::to_string(frf::kMinTapRecordSamples)};
+  }
+  std::vector<std::string> errors;
+  const auto& windows = t.kind_spec<TapSpec>().hit_windows_s;
+  for (std::size_t i = 0; i < windows.size(); ++i) {
+    const auto [start, end] = windows[i];  // finite (parse_tap)
+    const double a = std::round(start * t.sample_rate_hz), b = std::round(end * t.sample_rate_hz);
+    if (a < 0 || b > samples || b <= a) {
+      errors.push_back(
+          t.yaml_label + ": key 'hits' hit " + std::to_string(i + 1) + " [" +
+          printf_text("%g", start) + ", " + printf_text("%g", end) +
+          "] s: must satisfy 0 <= start < end <= " + printf_text("%g", samples / t.sample_rate_hz) +
+          " s (the length of the record)");
+    }
+  }
+  return errors;
+}
+
+// A measured FRF read as the step reads it (read_tap_frf): a file it would refuse.
+std::vector<std::string> TapKind::check_files(const TestSpec& t) const {
+  const auto* s = dynamic_cast<const TapSpec*>(t.params.get());
+  if (!s || !s->frf || s->frf->file.empty()) return {};
+  try {
+    (void)read_tap_frf(t);
+  } catch (const InputError& e) {
+    return {e.what()};
   }
   return {};
 }
@@ -285,6 +313,11 @@ std::shared_ptr<const KindSpec> TapKind::parse(const YAML::Node& root, YamlReade
       }
       try {
         const double a = h[0].as<double>(), b = h[1].as<double>();
+        if (!std::isfinite(a) || !std::isfinite(b)) {
+          r.error("hits", "each hit must be two finite numbers [start_s, end_s], got [" +
+                              printf_text("%g", a) + ", " + printf_text("%g", b) + "]");
+          break;
+        }
         if (!(b > a)) r.error("hits", "each hit window needs end_s > start_s");
         s.hit_windows_s.emplace_back(a, b);
       } catch (const YAML::Exception&) {

@@ -27,6 +27,7 @@ class TapKind : public TestKind {
   std::shared_ptr<const KindSpec> parse(const YAML::Node& root, YamlReader& r) const override;
   std::vector<std::string> required_channels(const TestSpec& t) const override;
   std::vector<std::string> check_record(const TestSpec& t, double duration_s) const override;
+  std::vector<std::string> check_files(const TestSpec& t) const override;
   std::vector<std::string> check_campaign(const CampaignSpec& c, const TestSpec& t) const override;
   std::vector<std::filesystem::path> input_files(const TestSpec& t) const override;
   std::vector<std::string> provides(const TestSpec& t) const override;

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
+#include <complex>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -94,6 +95,25 @@ tap:
         - {m_kg: 0.03211, c_kg_s: 13.39, k_N_m: 1.023e6}
 )";
 
+// A measured receptance of one mode (the hammer mode of x) from 20 Hz to 2 kHz as
+// frequency,real,imaginary rows; with `bad_cell` one cell of the middle row is text.
+std::string frf_table(bool bad_cell) {
+  const double m = 0.03211, c = 13.39, k = 1.023e6;
+  std::ostringstream s;
+  s.precision(10);
+  s << "f_hz,re_m_N,im_m_N\n";
+  for (int i = 0; i <= 990; ++i) {
+    const double f = 20.0 + 2.0 * i, w = 2.0 * 3.141592653589793 * f;
+    const std::complex<double> h = 1.0 / std::complex<double>(k - m * w * w, c * w);
+    if (bad_cell && i == 500) {
+      s << f << ",abc," << h.imag() << "\n";
+    } else {
+      s << f << "," << h.real() << "," << h.imag() << "\n";
+    }
+  }
+  return s.str();
+}
+
 // A bad input: applied to a copy of tap/x in bad/<id>/ (test.yaml and hits.csv).
 struct Mutation {
   std::string id;
@@ -117,6 +137,14 @@ std::vector<Mutation> mutations() {
     return [name, make](const fs::path& d) {
       replace_in(d / "test.yaml", "hits.csv", name);
       make(d);
+    };
+  };
+  auto frf_test = [](const std::string& table) {
+    return [table](const fs::path& d) {
+      fs::remove(d / "hits.csv");
+      write_text(d / "test.yaml",
+                 "kind: tap\naxis: x\nresponse: displacement\nfrf: {file: frf.csv}\n");
+      write_text(d / "frf.csv", table);
     };
   };
   std::string deep =
@@ -152,6 +180,14 @@ std::vector<Mutation> mutations() {
       {"hits-huge", false, yaml("hits: auto", "hits: 1e300")},
       {"hits-negative", false, yaml("hits: auto", "hits: -3")},
       {"hits-fraction", false, yaml("hits: auto", "hits: 2.5")},
+      {"hit-window-inf", false, yaml("hits: auto", "hits: [[0.1, .inf]]")},
+      {"hit-window-past-the-end", false, yaml("hits: auto", "hits: [[0.5, 30.0]]")},
+      {"hit-window-before-the-start", false, yaml("hits: auto", "hits: [[-0.5, 0.5]]")},
+      {"hit-windows-inside", true, yaml("hits: auto", "hits: [[0.9, 1.6], [1.9, 2.6]]")},
+      // a tap test from a measured FRF (no record): the file is read before computing
+      {"frf-not-a-table", false, frf_test("hello\nworld\n")},
+      {"frf-text-cell", false, frf_test(frf_table(true))},
+      {"frf-good", true, frf_test(frf_table(false))},
       // files the test names
       {"data-outside", false, yaml("hits.csv", "../../../x.csv")},
       {"data-absolute", false, yaml("hits.csv", "/x.csv")},

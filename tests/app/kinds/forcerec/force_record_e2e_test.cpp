@@ -21,6 +21,8 @@
 #include <string>
 #include <vector>
 
+#include "app/cli/validate.h"
+#include "app/core/campaign.h"
 #include "app/report/report.h"
 #include "app/synth/synth.h"
 #include "tests/support/results_schema.h"
@@ -112,6 +114,11 @@ class ForceRecordE2E : public ::testing::Test {
     broken("frf-wrong-axis", "x: forcerec/hammer/x", "x: forcerec/hammer/y");
     // Not broken: a cut window of 0.3 s, too short for E(S)'s 0.05 s + 1 s.
     broken("short-cut", "cut_window_s: [0.6, 2.95]", "cut_window_s: [0.6, 0.9]");
+    // A reference force record half as long as the force record (whole frames of up to
+    // 12 floats kept).
+    broken("short-reference", "", "");
+    const fs::path short_ref = campaign_ / "forcerec/bad/short-reference/reference.f32";
+    fs::resize_file(short_ref, fs::file_size(short_ref) / 2 / 48 * 48);
     // Another tool's campaign: no air window, the noise variance given; a CSV record. Written
     // below from the calm record's floats.
     ReportOptions o;
@@ -336,8 +343,38 @@ TEST_F(ForceRecordE2E, BadKeysAreSkippedWithTheirMessages) {
                 .find("key 'frf_tests.x' names 'forcerec/hammer/y', whose axis is y"),
             std::string::npos)
       << reason("forcerec/bad/frf-wrong-axis");
+  const std::string short_ref = reason("forcerec/bad/short-reference");
+  EXPECT_NE(short_ref.find("forcerec/bad/short-reference/test.yaml: key 'reference.force.file': "
+                           "forcerec/bad/short-reference/reference.f32 holds "),
+            std::string::npos)
+      << short_ref;
   // The rest of the campaign ran.
   for (const char* id : kCuts) EXPECT_EQ(tests.at(id).at("status"), "ok") << id;
+}
+
+// The reference record is read before computing (ForceRecordKind::check_record, which
+// `validate` and `report` both run): validate finds what report skips the test for, with the
+// same message, and finds nothing in the good records.
+TEST_F(ForceRecordE2E, ValidateFindsTheShortReferenceRecord) {
+  CampaignSpec c = load_campaign(campaign_);
+  std::ostringstream said;
+  validate_campaign(c, said);
+  const std::string reported =
+      results_->at("tests").at("forcerec/bad/short-reference").value("skip_reason", "");
+  bool found = false;
+  for (const TestSpec& t : c.tests) {
+    if (t.id == "forcerec/bad/short-reference") {
+      found = true;
+      ASSERT_EQ(t.errors.size(), 1u) << said.str();
+      EXPECT_NE(t.errors[0].find("reference.f32 holds "), std::string::npos) << t.errors[0];
+      EXPECT_NE(reported.find(t.errors[0]), std::string::npos) << reported;
+    }
+  }
+  EXPECT_TRUE(found) << said.str();
+  for (const char* id : kCuts) {
+    EXPECT_NE(said.str().find(std::string("ok       ") + id), std::string::npos)
+        << id << said.str();
+  }
 }
 
 // A cut window shorter than the AKF's tuning length: S is tuned over the record's start with a

@@ -118,6 +118,18 @@ TEST(GrindingKind, AValidTestHasNoProblem) {
   EXPECT_TRUE(errors_of(d, test_yaml()).empty()) << errors_of(d, test_yaml()).front();
 }
 
+// The inspections table is read before computing (GrindingKind::check_files, which `validate`
+// and `report` both run): a table the step would refuse makes the test unusable in both.
+TEST(GrindingKind, ABadInspectionsTableIsFoundBeforeComputing) {
+  TempDir d;
+  EXPECT_EQ(errors_of(d, test_yaml(), "ds_mm\n49.9\n"),
+            std::vector<std::string>{"g/inspections.csv: the header has no column 'cycle'"});
+  TempDir e;
+  EXPECT_EQ(errors_of(e, test_yaml(), "cycle,ds_mm\n1,abc\n"),
+            std::vector<std::string>{"g/inspections.csv: line 2, column ds_mm: 'abc' is not a "
+                                     "number (empty or nan: not measured)"});
+}
+
 TEST(GrindingKind, EveryParseProblemNamesItsKey) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {replaced(test_yaml(), "  gamma: 0.2\n", ""), "g/test.yaml: key 'model.gamma' is missing"},

@@ -11,6 +11,8 @@
 #include <sstream>
 #include <string>
 
+#include "app/cli/validate.h"
+#include "app/core/campaign.h"
 #include "app/core/signals.h"
 #include "app/report/report.h"
 #include "app/synth/synth.h"
@@ -151,6 +153,26 @@ TEST_F(SysidErrors, EachBrokenTestNamesItsFileAndKey) {
   const std::string wide = reason("bad/wide-band");
   EXPECT_NE(wide.find("sweep_band_hz"), std::string::npos) << wide;
   EXPECT_NE(wide.find("above half the sample rate"), std::string::npos) << wide;
+}
+
+// The dynamometer record and the windows' lengths are checked before computing
+// (SpindleCurrentKind::check_record, which `validate` and `report` both run): validate finds
+// the short dynamometer record that report skips the test for, with the same message.
+TEST_F(SysidErrors, ValidateFindsTheShortDynamometerRecord) {
+  CampaignSpec c = load_campaign(dir_->path() / "campaign");
+  std::ostringstream said;
+  EXPECT_EQ(validate_campaign(c, said), 1);
+  const std::string reported = reason("bad/short-dyno");
+  for (const TestSpec& t : c.tests) {
+    if (t.id != "bad/short-dyno") continue;
+    ASSERT_EQ(t.errors.size(), 1u) << said.str();
+    EXPECT_NE(t.errors[0].find("bad/short-dyno/dyno.csv: ends at 0.1 s, before the end of "
+                               "air_window_s or cut_window_s"),
+              std::string::npos)
+        << t.errors[0];
+    EXPECT_NE(reported.find(t.errors[0]), std::string::npos) << reported;
+  }
+  EXPECT_NE(said.str().find("UNUSABLE bad/short-dyno"), std::string::npos) << said.str();
 }
 
 TEST_F(SysidErrors, TheRestOfTheCampaignRuns) {
