@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 
 #include "analysis/common/summary.h"
 #include "app/core/yaml_load.h"
@@ -14,6 +15,8 @@ void YamlReader::throw_if_errors() const {
   if (errors_.empty()) return;
   std::string msg;
   for (const auto& e : errors_) msg += (msg.empty() ? "" : "\n") + e;
+  // The warnings too: a misspelt key is often why a key is missing.
+  for (const auto& w : warnings_) msg += "\nwarning: " + w;
   throw InputError(msg);
 }
 namespace {
@@ -269,9 +272,16 @@ void YamlReader::check_keys(const YAML::Node& map, const std::set<std::string>& 
     }
     const auto k = kv.first.Scalar();
     if (known.count(k)) continue;
+    // The closest known key that looks like it (fewest edits; the first in order on a tie).
     std::string hint;
+    int best = std::numeric_limits<int>::max();
     for (const auto& cand : known) {
-      if (looks_like(k, cand)) hint = " (did you mean '" + cand + "'?)";
+      if (!looks_like(k, cand)) continue;
+      const int d = edit_distance(k, cand);
+      if (d < best) {
+        best = d;
+        hint = " (did you mean '" + cand + "'?)";
+      }
     }
     warn(key_path(path, k), "is not part of the format and is ignored" + hint);
   }

@@ -51,7 +51,8 @@ class YamlReader {
 
   const std::vector<std::string>& errors() const { return errors_; }
   // Throws InputError with every error, one per line, when there is any (a spec or settings
-  // file that is read whole or not at all).
+  // file that is read whole or not at all), then every warning ("warning: ..."), which would
+  // not be printed otherwise.
   void throw_if_errors() const;
   const std::vector<std::string>& warnings() const { return warnings_; }
   const std::string& file() const { return file_; }

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -97,14 +98,22 @@ std::optional<SynthTool> read_tool(const YAML::Node& n, YamlReader& r) {
   return t;
 }
 
-void write_campaign_yaml(const YAML::Node& root, const SynthContext& ctx, const std::string& name) {
+// The largest synth seed: 2^53, every whole number up to it exact in a YAML float.
+constexpr long kMaxSynthSeed = 9007199254740992L;
+
+// campaign.yaml's text keys, read (a scalar string each) before anything is written.
+struct CampaignText {
+  std::optional<std::string> description, workpiece, machine;
+};
+
+void write_campaign_yaml(const CampaignText& text, const SynthContext& ctx,
+                         const std::string& name) {
   YAML::Emitter campaign;
   configure_synth_emitter(campaign);
   campaign << YAML::BeginMap << YAML::Key << "format" << YAML::Value << "chatterlab-campaign/1";
   campaign << YAML::Key << "name" << YAML::Value << name;
-  if (root["description"]) {
-    campaign << YAML::Key << "description" << YAML::Value << YAML::Literal
-             << root["description"].as<std::string>();
+  if (text.description) {
+    campaign << YAML::Key << "description" << YAML::Value << YAML::Literal << *text.description;
   }
   if (ctx.tool) {
     campaign << YAML::Key << "tool" << YAML::Value << YAML::Flow << YAML::BeginMap;
@@ -115,9 +124,8 @@ void write_campaign_yaml(const YAML::Node& root, const SynthContext& ctx, const 
     }
     campaign << YAML::EndMap;
   }
-  for (const char* key : {"workpiece", "machine"}) {
-    if (root[key]) campaign << YAML::Key << key << YAML::Value << root[key].as<std::string>();
-  }
+  if (text.workpiece) campaign << YAML::Key << "workpiece" << YAML::Value << *text.workpiece;
+  if (text.machine) campaign << YAML::Key << "machine" << YAML::Value << *text.machine;
   campaign << YAML::EndMap;
   write_synth_yaml(ctx.out / "campaign.yaml", campaign);
 }
@@ -155,7 +163,13 @@ SynthSummary synthesize_campaign(const std::filesystem::path& spec_yaml,
   summary.campaign_name = r.required_string(root, "name");
   SynthContext ctx;
   ctx.spec_label = label;
-  ctx.seed = static_cast<std::uint64_t>(r.optional_double(root, "seed").value_or(1.0));
+  // A whole number (a fraction, 1e300 or a negative seed is refused, never converted).
+  ctx.seed =
+      static_cast<std::uint64_t>(r.optional_int(root, "seed", "", 0, kMaxSynthSeed).value_or(1));
+  CampaignText text;
+  text.description = r.optional_string(root, "description");
+  text.workpiece = r.optional_string(root, "workpiece");
+  text.machine = r.optional_string(root, "machine");
   ctx.out = out_dir;
   if (root["tool"]) {
     ctx.tool_given = true;
@@ -173,7 +187,7 @@ SynthSummary synthesize_campaign(const std::filesystem::path& spec_yaml,
 
   if (before_writing) before_writing();
   std::filesystem::create_directories(out_dir);
-  write_campaign_yaml(root, ctx, summary.campaign_name);
+  write_campaign_yaml(text, ctx, summary.campaign_name);
   for (const auto& [kind, section] : sections) {
     summary.tests_written += kind->write_synth(*section, ctx);
   }

@@ -275,6 +275,39 @@ TEST(YamlStrict, SynthTeethOf1e300IsRefused) {
       << e;
 }
 
+// The synth spec's campaign texts and seed: a list as description was yaml-cpp's "bad
+// conversion" out of synth (exit 3, no key named); a seed of 1e300 was converted unchecked.
+TEST(YamlStrict, SynthTextKeysAndSeedAreCheckedBeforeWriting) {
+  const std::string e =
+      synth_error("seed: 1", "seed: 1e300\ndescription: [a, b]\nworkpiece: {steel: 1}");
+  for (const char* want :
+       {"spec.yaml: key 'description' must be a string, got a list",
+        "spec.yaml: key 'workpiece' must be a string, got a mapping",
+        "spec.yaml: key 'seed' must be a whole number from 0 to 9007199254740992, got '1e300'"}) {
+    EXPECT_NE(e.find(want), std::string::npos) << want << "\n" << e;
+  }
+}
+
+// The suggestion is the closest known key (fewest edits), not the last one that looks alike:
+// 'hitd' is one edit from 'hits' and two from 'kind'.
+TEST(YamlStrict, TheSuggestionIsTheClosestKey) {
+  YamlReader r("t.yaml");
+  r.check_keys(YAML::Load("{hitd: auto}"), {"axis", "hits", "kind", "modes"});
+  EXPECT_EQ(r.warnings(), std::vector<std::string>{"t.yaml: key 'hitd' is not part of the format "
+                                                   "and is ignored (did you mean 'hits'?)"});
+}
+
+// A spec read whole or not at all gives its warnings with its errors: the misspelt key that
+// is why a key is missing.
+TEST(YamlStrict, ASpecWithErrorsGivesItsWarningsToo) {
+  const std::string e = synth_error("name: synth-test", "nme: synth-test");
+  EXPECT_NE(e.find("spec.yaml: key 'name' is missing"), std::string::npos) << e;
+  EXPECT_NE(e.find("\nwarning: spec.yaml: key 'nme' is not part of the format and is ignored (did "
+                   "you mean 'name'?)"),
+            std::string::npos)
+      << e;
+}
+
 // A feed that is no number threw YAML::TypedBadConversion out of synth (an internal error).
 TEST(YamlStrict, SynthDynoFeedThatIsNoNumberIsAnInputError) {
   const std::string e = synth_error("feeds_mm: [0.05, 0.10, 0.15]", "feeds_mm: [0.05, abc, .inf]");
