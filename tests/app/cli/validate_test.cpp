@@ -72,7 +72,10 @@ TEST(Validate, EveryFormatKindIsKnownAndAMisspeltKindFails) {
   d.write("dynamometer/x/test.yaml",
           "kind: force-record\nsample_rate_hz: 10240\ndata: {file: f.csv}\nspindle_rpm: 15345\n"
           "noise_var_N2: {x: 0.01, y: 0.01}\nrd_alpha: gcv\nsmo: {rho_N_s: 2.0e8}\n");
-  d.write("dynamometer/x/f.csv", "Fx,Fy\n0,0\n1,0.5\n");
+  // 0.1 s of record: the format's evaluation window (0.05 s to the end less 0.01 s) holds some.
+  std::string record = "Fx,Fy\n";
+  for (int k = 0; k < 1024; ++k) record += std::to_string(k % 7) + ",0.5\n";
+  d.write("dynamometer/x/f.csv", record);
   CampaignSpec c = load_campaign(d.path());
   std::ostringstream out;
   EXPECT_EQ(validate_campaign(c, out), 0) << out.str();
