@@ -67,7 +67,7 @@ sanitize: deps $(ASAN_BUILD)/CMakeCache.txt
 # its own folder, then FUZZ_SECONDS of fuzzing each, from the seed corpus.
 FUZZ_BUILD ?= build-fuzz
 FUZZ_SECONDS ?= 10
-FUZZ_TARGETS ?= campaign test_yaml signals uff58 frf_text matfile
+FUZZ_TARGETS ?= campaign test_yaml signals uff58 frf_text matfile inspections
 # A fixed seed from the seed corpus alone (-f), as in a fresh clone: the run replays the
 # inputs of a run made before the commit (`FUZZ_SEED=` for a random one; exploratory fuzzing
 # uses scripts/fuzz.sh directly).

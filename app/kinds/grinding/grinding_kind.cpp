@@ -17,6 +17,7 @@
 #include "app/core/input_boundary.h"
 #include "app/core/parallel.h"
 #include "app/core/signals.h"
+#include "app/core/utf8.h"
 #include "app/core/yaml_reader.h"
 #include "app/pipeline/cached_result.h"
 #include "app/report/results_json.h"
@@ -364,18 +365,29 @@ std::vector<g::Inspection> read_inspections(const std::filesystem::path& file,
   if (line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte-order mark
   const std::vector<std::string> header = split(line);
   std::map<std::string, std::size_t> col;
+  std::vector<std::string> others;  // a lab's own columns (an operator's name): not read
   for (std::size_t k = 0; k < header.size(); ++k) {
     static const std::set<std::string> known = {"cycle", "available_cycle", "ds_mm", "Ra_um",
                                                 "roundness_um"};
-    if (!known.count(header[k])) {  // a lab's own column (an operator's name): not read
-      warnings.push_back(label + ": column '" + header[k] +
-                         "' is not one of cycle, available_cycle, ds_mm, Ra_um, roundness_um "
-                         "and is ignored");
+    if (!known.count(header[k])) {
+      others.push_back(header[k]);
       continue;
     }
     if (!col.emplace(header[k], k).second) {
       throw InputError(label + ": column '" + header[k] + "' appears twice");
     }
+  }
+  // One warning, naming at most five of them: a header of a million cells is one line.
+  if (!others.empty()) {
+    std::string names;
+    for (std::size_t k = 0; k < std::min<std::size_t>(others.size(), 5); ++k) {
+      names += (k ? ", '" : "'") + utf8_replaced(others[k].substr(0, 64)) + "'";
+    }
+    if (others.size() > 5) names += " and " + std::to_string(others.size() - 5) + " more";
+    warnings.push_back(label + (others.size() == 1 ? ": column " : ": columns ") + names +
+                       (others.size() == 1 ? " is" : " are") +
+                       " not one of cycle, available_cycle, ds_mm, Ra_um, roundness_um and " +
+                       (others.size() == 1 ? "is" : "are") + " ignored");
   }
   if (!col.count("cycle")) throw InputError(label + ": the header has no column 'cycle'");
   std::vector<g::Inspection> out;

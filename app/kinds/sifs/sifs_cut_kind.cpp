@@ -24,7 +24,6 @@ using nlohmann::json;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 Eigen::Index to_index(double t_s, double fs, Eigen::Index n) {
