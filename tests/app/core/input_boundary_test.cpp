@@ -171,6 +171,7 @@ struct Fixture {
 TEST(InputBoundary, ReportSkipsEachBadFileAndAnalysesTheRest) {
   Fixture f;
   const auto before = snapshot(f.campaign);
+  const auto around = snapshot(f.d.path());  // the campaign, the outside files and folders
   const fs::path out = f.d.path() / "out";
   std::ostringstream log;
   ReportOptions opt;
@@ -215,8 +216,14 @@ TEST(InputBoundary, ReportSkipsEachBadFileAndAnalysesTheRest) {
     const std::string reason = why.substr(why.rfind("': ") + 3);
     EXPECT_NE(html.find(reason), std::string::npos) << reason;
   }
-  // The campaign folder is unchanged, file by file.
+  // The campaign folder is unchanged, file by file, and nothing was written beside it or to the
+  // files outside that its keys name: everything new is under --out.
   EXPECT_EQ(snapshot(f.campaign), before);
+  auto after = snapshot(f.d.path());
+  for (auto it = after.begin(); it != after.end();) {
+    it = (it->first == "out" || it->first.rfind("out/", 0) == 0) ? after.erase(it) : ++it;
+  }
+  EXPECT_EQ(after, around);
 }
 
 TEST(InputBoundary, ValidateReportsTheSameProblems) {
