@@ -88,6 +88,34 @@ pid_t spawn_report(const fs::path& campaign, const fs::path& out) {
 }
 
 // One synth campaign for the suite (2 tap tests, 3 dyno-slot tests, the dyno-slot group).
+// `chatterlab report <campaign> --out <out> --no-pdf` under a file size limit of `kib` KiB
+// (bash's ulimit -f), SIGXFSZ ignored so that a write past it fails with EFBIG; its output in
+// stdout.txt and stderr.txt of `d`, the command in run.sh. Returns the exit status.
+int report_under_file_limit(const TempDir& d, const fs::path& campaign, const fs::path& out,
+                            std::uintmax_t kib) {
+  const std::string cmd = "trap '' XFSZ; ulimit -f " + std::to_string(kib) + "; exec " +
+                          quoted(CHATTERLAB_BINARY) + " report " + quoted(campaign) + " --out " +
+                          quoted(out) + " --no-pdf > " + quoted(d.path() / "stdout.txt") + " 2> " +
+                          quoted(d.path() / "stderr.txt");
+  std::ofstream(d.path() / "run.sh") << cmd << "\n";
+  const int rc = std::system(("bash " + quoted(d.path() / "run.sh")).c_str());
+  EXPECT_TRUE(WIFEXITED(rc)) << rc;
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+// A first, complete report of `campaign` into `out`: its results.json and files, which a failed
+// run after it must leave as they are.
+struct Previous {
+  std::string results_json;
+  Files files;
+};
+Previous first_report(const TempDir& d, const fs::path& campaign, const fs::path& out) {
+  const BinaryRun first =
+      run("report " + quoted(campaign) + " --out " + quoted(out) + " --no-pdf --quiet", d);
+  EXPECT_EQ(first.status, kExitOk) << first.err;
+  return {file_text(out / "results.json"), files_below(out)};
+}
+
 class CliOut : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -214,28 +242,17 @@ TEST_F(CliOut, AFailedWriteLeavesThePreviousReport) {
   const fs::path c = copy_campaign(d);
   fs::remove_all(c / "tap");
   const fs::path out = d.path() / "o";
-  const BinaryRun first =
-      run("report " + quoted(c) + " --out " + quoted(out) + " --no-pdf --quiet", d);
-  ASSERT_EQ(first.status, kExitOk) << first.err;
-  const std::string before = file_text(out / "results.json");
-  const Files before_files = files_below(out);
-  ASSERT_GT(before.size(), 4096u);  // sh's ulimit -f counts blocks of 512 bytes
+  const Previous before = first_report(d, c, out);
+  ASSERT_GT(before.results_json.size(), 4096u);
 
-  const std::string cmd = "trap '' XFSZ; ulimit -f 8; exec " + quoted(CHATTERLAB_BINARY) +
-                          " report " + quoted(c) + " --out " + quoted(out) + " --no-pdf > " +
-                          quoted(d.path() / "stdout.txt") + " 2> " +
-                          quoted(d.path() / "stderr.txt");
-  std::ofstream(d.path() / "run.sh") << cmd << "\n";
-  const int rc = std::system(("sh " + quoted(d.path() / "run.sh")).c_str());
-  ASSERT_TRUE(WIFEXITED(rc));
-  EXPECT_EQ(WEXITSTATUS(rc), kExitInputError);
+  EXPECT_EQ(report_under_file_limit(d, c, out, 4), kExitInputError);
   const std::string err = file_text(d.path() / "stderr.txt");
   EXPECT_NE(err.find("chatterlab report: cannot write " + (out / "results.json").string() + ": "),
             std::string::npos)
       << err;
   EXPECT_EQ(file_text(d.path() / "stdout.txt").find("wrote"), std::string::npos);
-  EXPECT_EQ(file_text(out / "results.json"), before);
-  EXPECT_EQ(files_below(out), before_files);
+  EXPECT_EQ(file_text(out / "results.json"), before.results_json);
+  EXPECT_EQ(files_below(out), before.files);
   EXPECT_EQ(names_in(d.path()),
             (Files{".o.chatterlab-lock", "campaign", "o", "run.sh", "stderr.txt", "stdout.txt"}));
 }
@@ -248,9 +265,7 @@ TEST_F(CliOut, AFailedWriteLeavesThePreviousReport) {
 TEST_F(CliOut, AFileCutByTheLastBufferedWriteFailsTheRun) {
   TempDir d;
   const fs::path out = d.path() / "o";
-  const BinaryRun first =
-      run("report " + quoted(campaign()) + " --out " + quoted(out) + " --no-pdf --quiet", d);
-  ASSERT_EQ(first.status, kExitOk) << first.err;
+  const Previous before = first_report(d, campaign(), out);
   const fs::path frf = out / "tap" / "x" / "frf.csv";
   const std::uintmax_t size = fs::file_size(frf);
   const std::uintmax_t limit = size / 8192 * 8192;  // whole blocks of the stream's 8 KiB buffer
@@ -260,24 +275,15 @@ TEST_F(CliOut, AFileCutByTheLastBufferedWriteFailsTheRun) {
     if (e.is_regular_file() && e.path() != frf) others = std::max(others, e.file_size());
   }
   ASSERT_LT(others, limit);
-  const std::string before = file_text(out / "results.json");
-  const Files before_files = files_below(out);
 
-  const std::string cmd = "trap '' XFSZ; ulimit -f " + std::to_string(limit / 1024) + "; exec " +
-                          quoted(CHATTERLAB_BINARY) + " report " + quoted(campaign()) + " --out " +
-                          quoted(out) + " --no-pdf > " + quoted(d.path() / "stdout.txt") + " 2> " +
-                          quoted(d.path() / "stderr.txt");
-  std::ofstream(d.path() / "run.sh") << cmd << "\n";
-  const int rc = std::system(("bash " + quoted(d.path() / "run.sh")).c_str());  // -f in KiB
-  ASSERT_TRUE(WIFEXITED(rc));
-  EXPECT_EQ(WEXITSTATUS(rc), kExitInputError);
+  EXPECT_EQ(report_under_file_limit(d, campaign(), out, limit / 1024), kExitInputError);
   const std::string err = file_text(d.path() / "stderr.txt");
   EXPECT_NE(err.find("chatterlab report: cannot write " + frf.string() + ": File too large"),
             std::string::npos)
       << err;
   EXPECT_EQ(file_text(d.path() / "stdout.txt").find("wrote"), std::string::npos);
-  EXPECT_EQ(file_text(out / "results.json"), before);
-  EXPECT_EQ(files_below(out), before_files);
+  EXPECT_EQ(file_text(out / "results.json"), before.results_json);
+  EXPECT_EQ(files_below(out), before.files);
   EXPECT_EQ(fs::file_size(frf), size);
 }
 
@@ -286,11 +292,9 @@ TEST_F(CliOut, AFileCutByTheLastBufferedWriteFailsTheRun) {
 TEST_F(CliOut, AnUnreadableCampaignOrSpecLeavesThePreviousOutput) {
   TempDir d;
   const fs::path out = d.path() / "o";
-  const BinaryRun first =
-      run("report " + quoted(campaign()) + " --out " + quoted(out) + " --no-pdf --quiet", d);
-  ASSERT_EQ(first.status, kExitOk) << first.err;
-  const std::string before = file_text(out / "results.json");
-  const Files before_files = files_below(out);
+  const Previous previous = first_report(d, campaign(), out);
+  const std::string& before = previous.results_json;
+  const Files& before_files = previous.files;
   fs::create_directories(d.path() / "nothing");
   const BinaryRun none =
       run("report " + quoted(d.path() / "nothing") + " --out " + quoted(out) + " --no-pdf", d);
