@@ -1,6 +1,6 @@
 // read_inspections on a grinding test's inspections table (format section 7: header
 // cycle[,available_cycle],ds_mm,Ra_um,roundness_um; its own CSV reader, not SignalTable's).
-// InputError is expected; the rows come back sorted by cycle.
+// InputError is expected.
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -14,10 +14,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const auto file = chatterlab::fuzz::write_input("inspections.csv", data, size);
   std::vector<std::string> warnings;
   try {
-    const auto rows = chatterlab::app::read_inspections(file, "inspections.csv", warnings);
-    for (std::size_t i = 1; i < rows.size(); ++i) {
-      if (rows[i].cycle < rows[i - 1].cycle) __builtin_trap();
-    }
+    (void)chatterlab::app::read_inspections(file, "inspections.csv", warnings);
   } catch (const chatterlab::InputError&) {
   }
   return 0;

@@ -18,7 +18,8 @@
 # Each target starts from its seed corpus fuzz/corpus/<target>/ (read only) and keeps what it
 # finds in <build>/fuzz-corpus/<target>/ (with -f: see above); crashes go to
 # <build>/fuzz-artifacts/<target>/. Each run adds a line to <build>/fuzz-history.tsv (times,
-# target, commit, seed, corpus folder, executions, exec/s, ok or FAILED).
+# target, commit, seed, corpus folder, executions, exec/s, and ok, FAILED or
+# timeout-not-reproduced: a timeout whose input, run once more alone, finishes in time).
 # Runs under nice -n 19, one target at a time. Exit status 1 when a target failed; then the
 # end of the output names the finding (libFuzzer's and the sanitizer's summary lines, the top
 # of the stack) and gives the saved input in base64, so that a failure in CI, whose build
@@ -114,7 +115,7 @@ for t in "${targets[@]}"; do
       ASAN_OPTIONS="max_allocation_size_mb=2048:$run_opts${ASAN_OPTIONS:+:$ASAN_OPTIONS}" \
         LSAN_OPTIONS="suppressions=$root/fuzz/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}" \
         "$build/fuzz/${t}_fuzz" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=1048576 \
-        "$input" >"$log.timeout-replay" 2>&1; then
+        "-artifact_prefix=$artifacts/replay-" "$input" >"$log.timeout-replay" 2>&1; then
       ms=$(sed -n 's/^Executed .* in \([0-9]*\) ms$/\1/p' "$log.timeout-replay" | tail -1)
       result="timeout-not-reproduced (the input runs in ${ms:-?} ms alone: a loaded machine;"
       result+=" see $log)"

@@ -252,11 +252,12 @@ CampaignSpec load_campaign(const fs::path& root_in, const KindRegistry& kinds) {
   CampaignSpec c;
   c.root = fs::absolute(root_in).lexically_normal();
   const fs::path yaml = c.root / "campaign.yaml";
-  if (!fs::is_directory(c.root)) {
+  std::error_code root_ec;  // status errors (a symlink loop) are problems, not exceptions
+  if (!fs::is_directory(c.root, root_ec)) {
     c.errors.push_back(root_in.string() + ": not a folder");
     return c;
   }
-  if (!fs::exists(yaml)) {
+  if (fs::symlink_status(yaml, root_ec).type() == fs::file_type::not_found) {
     c.errors.push_back("campaign.yaml: file not found in " + c.root.string());
     return c;
   }
@@ -266,6 +267,7 @@ CampaignSpec load_campaign(const fs::path& root_in, const KindRegistry& kinds) {
     c.errors.push_back("campaign.yaml: " + own.reason());
     return c;
   }
+  c.campaign_yaml_found = true;
   const YAML::Node root = load_yaml(yaml, "campaign.yaml", &c.errors);
   if (root) {
     YamlReader r("campaign.yaml");

@@ -99,6 +99,9 @@ struct TestSpec {
 
 struct CampaignSpec {
   fs::path root;
+  // The root is a folder and its campaign.yaml a file the input boundary accepts (whether or
+  // not its YAML then parses): false, `errors` says why, and nothing below the root was read.
+  bool campaign_yaml_found = false;
   std::string name;
   std::string description;
   std::optional<ToolSpec> tool;

@@ -352,12 +352,12 @@ CampaignResults run_campaign(CampaignSpec campaign, const PipelineOptions& optio
 void check_signals(TestSpec& t, const KindRegistry& kinds) {
   const TestKind* kind = kinds.find(t.kind);
   if (!t.usable() || !kind) return;
-  for (auto& e : kind->check_files(t)) t.errors.push_back(std::move(e));
-  // A test without a data file has none to open: a tap test from a measured FRF (test.yaml
-  // `frf:`, read by check_files; the loader requires data of every other test).
-  if (t.data.relative_file.empty() && t.kind == "tap") return;
   const std::string label = t.data_label();
   try {
+    for (auto& e : kind->check_files(t)) t.errors.push_back(std::move(e));
+    // A test without a data file has none to open: a tap test from a measured FRF (test.yaml
+    // `frf:`, read by check_files; the loader requires data of every other test).
+    if (t.data.relative_file.empty() && t.kind == "tap") return;
     const SignalTable table = SignalTable::open(t.data, label);
     for (auto& e :
          missing_channels(table, kind->required_channels(t), t.channels, "a " + t.kind + " test")) {
@@ -372,6 +372,10 @@ void check_signals(TestSpec& t, const KindRegistry& kinds) {
     for (auto& e : kind->check_record(t, duration)) t.errors.push_back(std::move(e));
   } catch (const InputError& e) {
     t.errors.push_back(e.what());
+  } catch (const std::exception& e) {
+    // A reader's failure that is no input message (std::bad_alloc on a damaged file): this
+    // test's problem, as it would be in its step, never the end of the campaign.
+    t.errors.push_back(label + ": internal error while checking the test's files: " + e.what());
   }
 }
 

@@ -117,18 +117,27 @@ FigureSet FigureJobs::draw(const std::filesystem::path& out, int jobs) const {
   std::vector<std::string> stems;
   for (const auto& j : jobs_) stems.push_back(j.stem);
   stems = unique_figure_stems(stems);
+  // A message names a file by its place in the report: `out` is the temporary folder of the
+  // run, gone once the report replaced --out.
+  const std::string folder = out.string() + "/";
+  const auto shown = [&](std::string m) {
+    for (auto at = m.find(folder); at != std::string::npos; at = m.find(folder, at)) {
+      m.erase(at, folder.size());
+    }
+    return m;
+  };
   parallel_for(jobs_.size(), jobs, [&](std::size_t i) {
     try {
       const std::filesystem::path csv = out / (stems[i] + ".csv");
       std::filesystem::create_directories(csv.parent_path());
       write_figure_csv(jobs_[i].figure, csv, stems[i]);
     } catch (const std::exception& e) {
-      data_errors[i] = "data of figure " + stems[i] + " not written: " + e.what();
+      data_errors[i] = "data of figure " + stems[i] + " not written: " + shown(e.what());
     }
     try {
       render::render_report_figure(jobs_[i].figure, out / stems[i]);
     } catch (const std::exception& e) {
-      errors[i] = "figure " + stems[i] + " not drawn: " + e.what();
+      errors[i] = "figure " + stems[i] + " not drawn: " + shown(e.what());
     }
   });
   FigureSet set;

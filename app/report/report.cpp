@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -196,8 +197,7 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
   const auto t0 = std::chrono::steady_clock::now();
   std::ostream& err = options.errors != nullptr ? *options.errors : log;
   CampaignSpec spec = load_campaign(campaign_dir, kinds);
-  if (!std::filesystem::exists(spec.root / "campaign.yaml") ||
-      !std::filesystem::is_directory(spec.root)) {
+  if (!spec.campaign_yaml_found) {
     for (const auto& e : spec.errors) err << "chatterlab report: " << e << "\n";
     return kExitInputError;
   }
@@ -236,6 +236,8 @@ int run_report(const std::filesystem::path& campaign_dir, const std::filesystem:
       kind->write_files(t, out);
     } catch (const WriteError&) {
       throw;  // the output, not the test: the run fails and the previous report stays
+    } catch (const std::filesystem::filesystem_error& e) {  // its folder could not be made
+      throw WriteError("cannot write " + e.path1().string() + ": " + e.code().message());
     } catch (const std::exception& e) {
       file_errors.push_back(t.spec->id + ": " + e.what());
     }

@@ -87,7 +87,6 @@ pid_t spawn_report(const fs::path& campaign, const fs::path& out) {
   return rc == 0 ? pid : -1;
 }
 
-// One synth campaign for the suite (2 tap tests, 3 dyno-slot tests, the dyno-slot group).
 // `chatterlab report <campaign> --out <out> --no-pdf` under a file size limit of `kib` KiB
 // (bash's ulimit -f), SIGXFSZ ignored so that a write past it fails with EFBIG; its output in
 // stdout.txt and stderr.txt of `d`, the command in run.sh. Returns the exit status.
@@ -116,6 +115,7 @@ Previous first_report(const TempDir& d, const fs::path& campaign, const fs::path
   return {file_text(out / "results.json"), files_below(out)};
 }
 
+// One synth campaign for the suite (2 tap tests, 3 dyno-slot tests, the dyno-slot group).
 class CliOut : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -217,9 +217,9 @@ TEST_F(CliOut, KilledReportLeavesThePreviousOrTheNewOneNeverAMix) {
   std::cout << "SIGKILL: one run " << duration << " s; " << kept_previous
             << " kills left the previous report, " << got_new << " the new one; " << killed_writing
             << " left a temporary folder beside --out\n";
-  // At least one kill landed while the run was under way (its temporary folder left behind): the
-  // delays fall before the run's own duration with a chance of about 0.7 each, so eight misses
-  // in a row would be about 7e-5.
+  // At least one kill landed while the run was under way (its temporary folder left behind).
+  // The delays come from a fixed seed: 1.04, 1.22, 0.59, 0.36, 1.01, 0.85, 0.99 and 0.51 of
+  // the first run's time; all eight miss only if the runs took under 36 % of the first.
   EXPECT_GE(killed_writing, 1);
 
   // A run to its end: the stale temporary folders are gone, the report is the new one.
@@ -258,10 +258,10 @@ TEST_F(CliOut, AFailedWriteLeavesThePreviousReport) {
 }
 
 // A test's own file that cannot be written whole (tap/x/frf.csv, the largest file of the report,
-// under a file size limit that lets through every full 8 KiB block of it but not the last,
-// partial one, which the stream writes only when it is closed): exit 1 naming the file, nothing
-// said to be written, the previous report as it was. Before the stream was checked after its
-// close, the run ended "ok" with the file cut at the limit.
+// under a file size limit of a whole number of the stream's 8 KiB blocks, below the file's
+// size: the stream writes its last, partial block only when it is closed): exit 1 naming the file,
+// nothing said to be written, the previous report as it was. Before the stream was checked after
+// its close, the run ended "ok" with the file cut at the limit.
 TEST_F(CliOut, AFileCutByTheLastBufferedWriteFailsTheRun) {
   TempDir d;
   const fs::path out = d.path() / "o";

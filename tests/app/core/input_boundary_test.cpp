@@ -341,6 +341,9 @@ TEST(InputBoundary, CampaignTruthAndTestYamlsAreInsideTheBoundary) {
     fs::create_directories(d.path() / "b");
     EXPECT_EQ(::mkfifo((d.path() / "b/campaign.yaml").c_str(), 0600), 0);
     out.push_back(load_campaign(d.path() / "b"));
+    fs::create_directories(d.path() / "e");  // a symlink loop: no exception
+    fs::create_symlink("campaign.yaml", d.path() / "e/campaign.yaml");
+    out.push_back(load_campaign(d.path() / "e"));
     // A good campaign.yaml; truth.yaml leading out; test.yaml a FIFO, a folder, a dangling link.
     d.write("c/campaign.yaml", kCampaignYaml);
     fs::create_symlink(d.path() / "secret/truth.yaml", d.path() / "c/truth.yaml");
@@ -357,30 +360,43 @@ TEST(InputBoundary, CampaignTruthAndTestYamlsAreInsideTheBoundary) {
     std::_Exit(1);
   }
   std::vector<CampaignSpec> c = load.get();  // validate_campaign takes it to change
-  ASSERT_EQ(c.size(), 3u);
+  ASSERT_EQ(c.size(), 4u);
   EXPECT_EQ(c[0].errors, std::vector<std::string>{"campaign.yaml: must lie inside the campaign "
                                                   "folder (a symlink leads outside)"});
   EXPECT_TRUE(c[0].tests.empty());
   EXPECT_EQ(c[1].errors, std::vector<std::string>{"campaign.yaml: is a FIFO, not a regular file"});
+  EXPECT_EQ(c[2].errors,
+            std::vector<std::string>{"campaign.yaml: is a symlink loop, not a regular file"});
+  for (int k = 0; k < 3; ++k) EXPECT_FALSE(c[static_cast<std::size_t>(k)].campaign_yaml_found);
+  // report stops at once with the reason, as for a missing campaign.yaml (before, it went on
+  // with no test and said "no test.yaml found"), and writes nothing.
+  std::ostringstream log;
+  ReportOptions opt;
+  opt.pdf = false;
+  EXPECT_EQ(run_report(d.path() / "a", d.path() / "out-a", opt, log), 1);
+  EXPECT_EQ(log.str(),
+            "chatterlab report: campaign.yaml: must lie inside the campaign folder (a symlink "
+            "leads outside)\n");
+  EXPECT_FALSE(fs::exists(d.path() / "out-a"));
 
-  EXPECT_TRUE(c[2].errors.empty());
-  EXPECT_FALSE(c[2].has_truth);
-  EXPECT_NE(std::find(c[2].warnings.begin(), c[2].warnings.end(),
+  EXPECT_TRUE(c[3].errors.empty());
+  EXPECT_FALSE(c[3].has_truth);
+  EXPECT_NE(std::find(c[3].warnings.begin(), c[3].warnings.end(),
                       "truth.yaml: must lie inside the campaign folder (a symlink leads outside); "
                       "not read (no comparison with the truth)"),
-            c[2].warnings.end());
-  ASSERT_EQ(c[2].tests.size(), 3u);
+            c[3].warnings.end());
+  ASSERT_EQ(c[3].tests.size(), 3u);
   const std::map<std::string, std::string> want = {
       {"fifo", "fifo/test.yaml: is a FIFO, not a regular file"},
       {"folder", "folder/test.yaml: is a folder, not a regular file"},
       {"gone", "gone/test.yaml: file not found"}};
-  for (const TestSpec& t : c[2].tests) {
+  for (const TestSpec& t : c[3].tests) {
     ASSERT_EQ(want.count(t.id), 1u) << t.id;
     EXPECT_EQ(t.errors, std::vector<std::string>{want.at(t.id)}) << t.id;
   }
   // validate counts them as tests found and not usable, and says why.
   std::ostringstream text;
-  EXPECT_EQ(validate_campaign(c[2], text), 1);
+  EXPECT_EQ(validate_campaign(c[3], text), 1);
   EXPECT_NE(text.str().find("3 tests found, 0 usable"), std::string::npos) << text.str();
   for (const auto& [id, why] : want) EXPECT_NE(text.str().find(why), std::string::npos) << why;
   EXPECT_EQ(text.str().find(kSecret), std::string::npos);
