@@ -17,6 +17,7 @@
 #include "app/core/checked_write.h"
 #include "app/core/format.h"
 #include "app/core/hashing.h"
+#include "app/core/input_boundary.h"
 #include "app/git_commit.h"
 #include "app/nightly/cache_keys.h"
 #include "app/nightly/compute.h"
@@ -328,7 +329,13 @@ std::vector<CampaignPlan> plan_campaigns(const fs::path& site, SiteDb& db,
     // The program and campaign.yaml as well, for a campaign without tests.
     std::string key_text = "pdf=" + std::to_string(pdf) + "\nprogram " + program + "\n";
     try {
-      key_text += "campaign.yaml " + sha256_file(a.folder / "campaign.yaml") + "\n";
+      // Read only inside the boundary (app/core/input_boundary.h): a campaign.yaml linked out of
+      // its folder is refused by the loader and never read, for its hash neither.
+      const fs::path yaml = a.folder / "campaign.yaml";
+      key_text += "campaign.yaml " +
+                  (regular_file_inside(a.folder, yaml) ? sha256_file(yaml)
+                                                       : std::string("outside the campaign")) +
+                  "\n";
     } catch (const InputError&) {
       key_text += "campaign.yaml unreadable\n";
     }
