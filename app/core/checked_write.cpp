@@ -10,10 +10,17 @@
 
 namespace chatterlab::app {
 
+namespace {
+
+[[noreturn]] void throw_write_error(const std::filesystem::path& path, int e) {
+  throw WriteError("cannot write " + path.string() + ": " +
+                   (e != 0 ? std::strerror(e) : "the stream failed"));
+}
+
+}  // namespace
+
 void write_file_checked(const std::filesystem::path& path, const std::string& text) {
-  const auto fail = [&](int e) {
-    throw WriteError("cannot write " + path.string() + ": " + std::strerror(e));
-  };
+  const auto fail = [&](int e) { throw_write_error(path, e); };  // e != 0 here
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | O_NOFOLLOW, 0666);
   if (fd < 0) fail(errno);
   std::size_t done = 0;
@@ -29,15 +36,6 @@ void write_file_checked(const std::filesystem::path& path, const std::string& te
   }
   if (::close(fd) != 0) fail(errno);
 }
-
-namespace {
-
-[[noreturn]] void throw_write_error(const std::filesystem::path& path, int e) {
-  throw WriteError("cannot write " + path.string() + ": " +
-                   (e != 0 ? std::strerror(e) : "the stream failed"));
-}
-
-}  // namespace
 
 std::ofstream open_for_writing(const std::filesystem::path& path) {
   errno = 0;
