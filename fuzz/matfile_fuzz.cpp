@@ -23,15 +23,17 @@ extern "C" int LLVMFuzzerInitialize(int* /*argc*/, char*** /*argv*/) {
   chatterlab::app::mat::set_reader_time_limit(std::chrono::seconds(2));
   chatterlab::app::mat::set_reader_reply_limit(std::size_t{256} << 20);
   chatterlab::app::mat::set_reader_process_reuse(1000);
-  // libhdf5 keeps the blocks it frees on free lists of its own, up to 1 MB a list by default.
-  // The metadata cache of each H5Fopen is larger: it went back to malloc at each close, and ASan
-  // maps such a block anew each time, so every v7.3 read cleared fresh pages (20 % of the
-  // samples). Unlimited lists keep it for the next open: 8,000 inputs of the kept corpus ran
-  // 421 exec/s instead of 333 (docs/fuzzing.md, "Speed"). The setting is the reader processes'
-  // too (forked from this one). What it hides is a heap error inside libhdf5 on a recycled
-  // block, which the reader process contains either way; the program does not set it (a
-  // reader process reads one file).
-  H5set_free_list_limits(-1, -1, -1, -1, -1, -1);
+  // libhdf5 keeps the blocks it frees on free lists of its own, by default at most 64 KB a
+  // regular list and 1 MB over all of them (H5FL.c). The metadata cache of each H5Fopen (about
+  // 0.5 MB) passes the per-list limit: it went back to malloc at each close, and ASan maps a
+  // block that large anew each time, so every v7.3 read cleared fresh pages (20 % of the
+  // samples). The regular lists may now keep 4 MB each, 16 MB in all, so the next open reuses
+  // the block; the array and block lists keep their defaults (one block list per chunk size,
+  // which a kept reader process fed 1,000 fuzzed files would pile up). The reader processes,
+  // forked from this one, inherit the setting. What it can hide is a heap error inside libhdf5
+  // on a recycled block, which the reader process contains either way; the program keeps
+  // libhdf5's defaults (a reader process there reads one file). docs/fuzzing.md, "Speed".
+  H5set_free_list_limits(16 << 20, 4 << 20, 4 << 20, 256 << 10, 16 << 20, 1 << 20);
   return 0;
 }
 

@@ -283,38 +283,51 @@ double element(const matvar_t& v, std::size_t i) {
   }
 }
 
-// Throws InputError when a variable's header declares more values than its file can hold:
-// uncompressed, every value takes at least one byte; compressed (zlib, MATLAB's only filter in
-// v5 and v7.3 files), at least 1/1100 of one (zlib's ratio stays below 1032:1). A damaged
-// header (e.g. 1090519080 x 3481666 in a 1.3 kB file) is refused before its columns are listed
-// or its data allocated. A v7.3 (HDF5) dataset is bounded as if compressed: one that declares
-// more is damaged or was never written (a fill value only, no stored data), and libmatio would
-// allocate and fill all of it (up to 2 GB from a 4 kB file, 4 s a read under ASan while
-// fuzzing; docs/fuzzing.md, "Speed").
-void check_declared_size(mat_t* m, const matvar_t& v, const std::filesystem::path& file) {
-  if (v.rank != 2 || !v.dims) return;
+// Why a numeric variable's header declares more values than its file can hold ("" when it
+// does not): uncompressed, every value takes at least one byte; compressed (zlib, MATLAB's only
+// filter in v5 and v7.3 files), at least 1/1100 of one (zlib's ratio stays below 1032:1). A
+// damaged header (e.g. 1090519080 x 3481666 in a 1.3 kB file) is refused before its columns
+// are listed or its data allocated. A v7.3 (HDF5) dataset is bounded as if compressed: one
+// that declares more is damaged or was never written in full (chunks left as HDF5's fill
+// value), and libmatio would allocate and fill all of it (up to 2 GB from a 4 kB file, 4 s a
+// read under ASan while fuzzing; docs/fuzzing.md, "Speed"). Every dimension counts (a 1-D or
+// N-D dataset is allocated whole before it is found not to be a vector or matrix); other
+// classes (sparse, char, struct, cell) are not numeric channels and are not checked.
+std::string declared_size_problem(mat_t* m, const matvar_t& v, const std::filesystem::path& file) {
+  if (!numeric_class(v.class_type) || v.rank < 1 || !v.dims) return "";
+  const auto rank = static_cast<std::size_t>(v.rank);
+  if (std::any_of(v.dims, v.dims + rank, [](std::size_t d) { return d == 0; })) return "";
   std::error_code ec;
   const std::uintmax_t bytes = std::filesystem::file_size(file, ec);
-  if (ec) return;
+  if (ec) return "";
   const bool v73 = Mat_GetVersion(m) == MAT_FT_MAT73;
   const std::uintmax_t per_byte = v.compression == MAT_COMPRESSION_NONE && !v73 ? 1 : 1100;
-  const std::uintmax_t limit = bytes * per_byte;
-  const std::uintmax_t rows = v.dims[0], cols = v.dims[1];
-  if (rows != 0 && cols > limit / rows) {
-    throw InputError(file.string() + ": variable '" + (v.name ? v.name : "") + "' declares " +
-                     std::to_string(rows) + " x " + std::to_string(cols) +
-                     " values, more than the " + std::to_string(bytes) + "-byte file can hold (" +
-                     (v73 ? "a damaged file, or a dataset never written" : "a damaged file") + ")");
+  std::uintmax_t left = bytes * per_byte;  // values the rest of the dimensions may still hold
+  bool fits = true;
+  std::string dims;
+  for (std::size_t i = 0; i < rank; ++i) {
+    fits = fits && v.dims[i] <= left;
+    if (fits) left /= v.dims[i];
+    dims += (i ? " x " : "") + std::to_string(v.dims[i]);
   }
+  if (fits) return "";
+  return "variable '" + std::string(v.name ? v.name : "") + "' declares " + dims +
+         " values, more than the " + std::to_string(bytes) + "-byte file can hold (" +
+         (v73 ? "a damaged file, or a dataset never written in full" : "a damaged file") + ")";
 }
 
 // The readers below run in a child process (see isolated() further down).
+// A v5 variable declaring more than its file holds is a damaged file, refused whole; a v7.3
+// one is left out of the list (the other variables may be good) and refused when read.
 std::vector<Variable> numeric_variables_here(const std::filesystem::path& file) {
   File m = open_read(file);
   std::vector<Variable> out;
   while (Var v{Mat_VarReadNextInfo(m.get())}) {
     if (!v->name || !numeric_class(v->class_type) || v->rank != 2) continue;
-    check_declared_size(m.get(), *v, file);
+    if (const std::string why = declared_size_problem(m.get(), *v, file); !why.empty()) {
+      if (Mat_GetVersion(m.get()) == MAT_FT_MAT73) continue;
+      throw InputError(file.string() + ": " + why);
+    }
     out.push_back({v->name, v->dims[0], v->dims[1], v->isComplex != 0});
   }
   return out;
@@ -322,7 +335,11 @@ std::vector<Variable> numeric_variables_here(const std::filesystem::path& file) 
 
 Var read_numeric(mat_t* m, const std::filesystem::path& file, const std::string& name) {
   const std::string where = file.string() + ": variable '" + name + "'";
-  if (const Var info{Mat_VarReadInfo(m, name.c_str())}) check_declared_size(m, *info, file);
+  if (const Var info{Mat_VarReadInfo(m, name.c_str())}) {
+    if (const std::string why = declared_size_problem(m, *info, file); !why.empty()) {
+      throw InputError(file.string() + ": " + why);
+    }
+  }
   Var v{Mat_VarRead(m, name.c_str())};
   if (!v) {
     std::string names;

@@ -357,28 +357,25 @@ TEST(MatfileReaderReuse, AKeptReaderProcessReadsAsAProcessPerReadDoes) {
 // declares far more values than 4,320 bytes can store even compressed, with no data written:
 // libmatio allocated and filled all of it, 4 s a read under ASan, and inputs like it held
 // matfile_fuzz to 25 executions a second (docs/fuzzing.md, "Speed"). Its header is now bounded
-// as a compressed v5 variable's is (1,100 values per byte of file) and refused before libmatio
-// reads it, in the listing and in a read alike.
+// as a compressed v5 variable's is (1,100 values per byte of file): the variable is left out
+// of the listing (the file's other variables stay readable) and refused when read, before
+// libmatio allocates it.
 TEST(MatfileFuzzRegression, AV73DatasetDeclaringMoreThanItsFileHoldsIsRefused) {
+  if (!v73_supported()) GTEST_SKIP() << "this libmatio cannot read v7.3 files (built without HDF5)";
   const TempDir dir;
   const auto file = dir.path() / "fill_value.mat";
   std::filesystem::copy_file(
       std::filesystem::path(CHATTERLAB_TEST_DATA) / "matfile/fill_value_v73.mat", file);
-  std::string listed, read;
-  try {
-    numeric_variables(file);
-  } catch (const InputError& e) {
-    listed = e.what();
-  }
+  for (const auto& v : numeric_variables(file)) EXPECT_NE(v.name, "forcc");
+  std::string read;
   try {
     read_vector(file, "forcc", 0);
   } catch (const InputError& e) {
     read = e.what();
   }
-  EXPECT_EQ(listed, file.string() +
-                        ": variable 'forcc' declares 40 x 5722881 values, more than the 4320-byte "
-                        "file can hold (a damaged file, or a dataset never written)");
-  EXPECT_EQ(read, listed);
+  EXPECT_EQ(read, file.string() +
+                      ": variable 'forcc' declares 40 x 5722881 values, more than the 4320-byte "
+                      "file can hold (a damaged file, or a dataset never written in full)");
 }
 
 }  // namespace
