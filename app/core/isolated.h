@@ -19,9 +19,9 @@ struct IsolatedOptions {
   // The child is killed after this long (a parser caught in a loop).
   std::chrono::milliseconds time_limit{std::chrono::seconds(120)};
   // The child is killed when its reply grows past this many bytes: a damaged file whose
-  // header declares a huge array (a v7.3 dataset stored as a fill value has no data to bound
-  // it) must not make this process hold the array. 4 GiB: 500 M doubles, beyond any record
-  // the program reads.
+  // header declares a huge array must not make this process hold the array (the .mat reader
+  // bounds what a variable may declare by its file's size, 1,100 values a byte, which a large
+  // file still passes). 4 GiB: 500 M doubles, beyond any record the program reads.
   std::size_t max_reply_bytes = std::size_t{4} << 30;
 };
 
