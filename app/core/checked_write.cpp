@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "analysis/common/summary.h"
+#include "app/core/fd_io.h"
 
 namespace chatterlab::app {
 
@@ -23,16 +24,14 @@ void write_file_checked(const std::filesystem::path& path, const std::string& te
   const auto fail = [&](int e) { throw_write_error(path, e); };  // e != 0 here
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | O_NOFOLLOW, 0666);
   if (fd < 0) fail(errno);
-  std::size_t done = 0;
-  while (done < text.size()) {
-    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      const int e = n < 0 ? errno : EIO;
-      ::close(fd);
-      fail(e);
-    }
-    done += static_cast<std::size_t>(n);
+  const auto write = [fd](const char* d, std::size_t k) {
+    errno = 0;
+    return ::write(fd, d, k);
+  };
+  if (!move_all(text.data(), text.size(), write)) {
+    const int e = errno != 0 ? errno : EIO;  // a write that moved nothing: EIO
+    ::close(fd);
+    fail(e);
   }
   if (::close(fd) != 0) fail(errno);
 }

@@ -17,6 +17,7 @@
 #include <utility>
 
 #include "analysis/common/summary.h"
+#include "app/core/fd_io.h"
 
 namespace chatterlab::app {
 namespace {
@@ -25,20 +26,6 @@ namespace {
 constexpr char kOk = 'o';
 constexpr char kInputError = 'i';
 constexpr char kOtherError = 'x';
-
-// Moves all n bytes at data with io(data, left), one call after another: a call moves part of
-// them, EINTR retries. False when a call fails or returns 0 (the other end closed the stream).
-template <typename Byte, typename Io>
-bool move_all(Byte* data, std::size_t n, Io io) {
-  while (n > 0) {
-    const ssize_t moved = io(data, n);
-    if (moved < 0 && errno == EINTR) continue;
-    if (moved <= 0) return false;
-    data += moved;
-    n -= static_cast<std::size_t>(moved);
-  }
-  return true;
-}
 
 bool write_all(int fd, const char* data, std::size_t n) {
   return move_all(data, n, [fd](const char* d, std::size_t k) { return ::write(fd, d, k); });
