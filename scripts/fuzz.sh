@@ -58,6 +58,9 @@ if [ ! -f "$build/CMakeCache.txt" ]; then
     -DCHATTERLAB_WERROR=OFF -DCHATTERLAB_BENCHMARKS=OFF
 fi
 cmake --build "$build" -j"$jobs" --target $(printf '%s_fuzz ' "${targets[@]}")
+# The commit the targets were just built from, for fuzz-history.tsv: read now, not when a run
+# ends (the work tree may have moved on during a run of hours).
+built_commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)
 
 # The targets write each input to a file for readers that take a path: on tmpfs when there is
 # one. On ext4 the truncate-and-rewrite of that file forces a write-back each time; tmpfs made
@@ -137,7 +140,7 @@ for t in "${targets[@]}"; do
   fi
   printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' \
     "$(date -u -d "@${started[$t]}" +%FT%TZ)" "$(date -u +%FT%TZ)" "$t" \
-    "$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)" \
+    "$built_commit" \
     "$(sed -n 's/^INFO: Seed: //p' "$log" | head -1)" "$(basename "$(dirname "$work")")" \
     "${execs:-?}" "${rate:-?}" "${result%% *}" >>"$history"
 done
