@@ -2,6 +2,7 @@
 // more values than the file holds must end in an InputError, not in listing millions of
 // columns or allocating petabytes.
 #include <gtest/gtest.h>
+#include <hdf5.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -376,6 +377,64 @@ TEST(MatfileFuzzRegression, AV73DatasetDeclaringMoreThanItsFileHoldsIsRefused) {
   EXPECT_EQ(read, file.string() +
                       ": variable 'forcc' declares 40 x 5722881 values, more than the 4320-byte "
                       "file can hold (a damaged file, or a dataset never written in full)");
+}
+
+// Adds to a v7.3 file a double dataset `name` of rows x cols (MATLAB's order; HDF5's is the
+// reverse) that is created and never written: chunked, so that no storage is allocated, its
+// values only the fill value. libmatio cannot write one; MATLAB's matfile() leaves one when a
+// variable is grown and never filled. The MATLAB_class attribute is the one libmatio writes.
+void add_unwritten_dataset(const std::filesystem::path& file, const char* name, hsize_t rows,
+                           hsize_t cols) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  const hsize_t dims[2] = {cols, rows};
+  const hsize_t chunk[2] = {1, std::min<hsize_t>(rows, 1024)};
+  const hid_t space = H5Screate_simple(2, dims, nullptr);
+  const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+  ASSERT_GE(H5Pset_chunk(dcpl, 2, chunk), 0);
+  const hid_t d = H5Dcreate2(f, name, H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+  ASSERT_GE(d, 0);
+  const hid_t text = H5Tcopy(H5T_C_S1);
+  H5Tset_size(text, 6);
+  const hid_t scalar = H5Screate(H5S_SCALAR);
+  const hid_t a = H5Acreate2(d, "MATLAB_class", text, scalar, H5P_DEFAULT, H5P_DEFAULT);
+  ASSERT_GE(H5Awrite(a, text, "double"), 0);
+  H5Aclose(a);
+  H5Sclose(scalar);
+  H5Tclose(text);
+  H5Dclose(d);
+  H5Pclose(dcpl);
+  H5Sclose(space);
+  H5Fclose(f);
+}
+
+// The same bound on a made file: a good vector beside a dataset declaring 100,000,000 values
+// (800 MB) with no data. The listing holds the good one only, the good one reads, and the
+// other is refused by name when read, before libmatio allocates its 800 MB.
+TEST(MatfileV73, ADatasetNeverWrittenIsLeftOutAndRefusedWhenRead) {
+  if (!v73_supported())
+    GTEST_SKIP() << "this libmatio cannot create v7.3 files (built without HDF5)";
+  const TempDir dir;
+  const auto file = dir.path() / "grown.mat";
+  const Eigen::VectorXd good = Eigen::VectorXd::LinSpaced(500, -1.0, 1.0);
+  write_mat(file, {{"good", good}}, Version::kV73);
+  add_unwritten_dataset(file, "big", 100000000, 1);
+  const auto bytes = std::filesystem::file_size(file);
+  ASSERT_LT(bytes, 100000000u / 1100) << "the file must be small for the bound to apply";
+
+  const auto vars = numeric_variables(file);
+  ASSERT_EQ(vars.size(), 1u);
+  EXPECT_EQ(vars[0].name, "good");
+  EXPECT_EQ(read_vector(file, "good"), good);
+  std::string e;
+  try {
+    read_vector(file, "big");
+  } catch (const InputError& x) {
+    e = x.what();
+  }
+  EXPECT_EQ(e, file.string() + ": variable 'big' declares 100000000 x 1 values, more than the " +
+                   std::to_string(bytes) +
+                   "-byte file can hold (a damaged file, or a dataset never written in full)");
 }
 
 }  // namespace
