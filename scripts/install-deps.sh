@@ -9,7 +9,7 @@ PACKAGES=(
   nlohmann-json3-dev libkainjow-mustache-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox libosmesa6-dev libpng-dev
-  libmatio-dev zlib1g-dev liblapack-dev libsqlite3-dev
+  libmatio-dev libhdf5-dev zlib1g-dev liblapack-dev libsqlite3-dev
   libssl-dev weasyprint qpdf poppler-utils fonts-dejavu-core
   python3-jsonschema chromium
   clang libclang-rt-dev
