@@ -41,9 +41,10 @@ demo: build
 # not instrumented), the demo report's end-to-end test (593 s under the sanitizers; its code
 # runs there on smaller campaigns, docs/testing.md), the ERA study over fifty random systems
 # (120 s; era_test runs the same code on single systems) and a second full identification run
-# (IdentificationScale, 144 s; Identification.* run the same code) and the test that kills a
-# report at random moments (CliOut.KilledReport..., 189 s under the sanitizers, 16 s in make
-# test; the writes it interrupts are the ones the other CliOut tests run) and the hysteresis
+# (IdentificationScale, 144 s; Identification.* run the same code) and the two tests that kill a
+# report at random moments (CliOut.KilledReport..., without its PDF 189 s under the sanitizers
+# and 16 s in make test, with it 50 s there; the writes they interrupt are the ones the other
+# CliOut tests run) and the hysteresis
 # campaign (two 2,000-revolution ramps through report, 10 s in make test; ResultsSchema runs a
 # ramped cut and the lobes group through the binary there), the per-test cache over campaign a
 # of the nightly tests (a cut and the lobes reported twice; the cache's code runs there in the

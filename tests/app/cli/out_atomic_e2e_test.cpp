@@ -62,15 +62,17 @@ void rename_campaign(const fs::path& campaign, const std::string& name) {
   std::ofstream(campaign / "campaign.yaml") << text;
 }
 
-// `chatterlab report <campaign> --out <out> --no-pdf --quiet` as a child in a process group of
-// its own (its helpers die with it), its streams on /dev/null.
-pid_t spawn_report(const fs::path& campaign, const fs::path& out) {
+// `chatterlab report <campaign> --out <out> --quiet` (with --no-pdf unless `pdf`) as a child in
+// a process group of its own (its helpers, such as WeasyPrint, are in that group), its streams
+// on /dev/null.
+pid_t spawn_report(const fs::path& campaign, const fs::path& out, bool pdf) {
   const std::string bin = CHATTERLAB_BINARY, c = campaign.string(), o = out.string();
   std::vector<char*> argv = {const_cast<char*>(bin.c_str()), const_cast<char*>("report"),
                              const_cast<char*>(c.c_str()),   const_cast<char*>("--out"),
-                             const_cast<char*>(o.c_str()),   const_cast<char*>("--no-pdf"),
-                             const_cast<char*>("--quiet"),   const_cast<char*>("--jobs"),
-                             const_cast<char*>("2"),         nullptr};
+                             const_cast<char*>(o.c_str()),   const_cast<char*>("--quiet"),
+                             const_cast<char*>("--jobs"),    const_cast<char*>("2")};
+  if (!pdf) argv.push_back(const_cast<char*>("--no-pdf"));
+  argv.push_back(nullptr);
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
@@ -146,39 +148,56 @@ class CliOut : public ::testing::Test {
 };
 TempDir* CliOut::dir_ = nullptr;
 
-TEST_F(CliOut, KilledReportLeavesThePreviousOrTheNewOneNeverAMix) {
-  TempDir src, dst;  // the campaign, and the parent of --out (nothing else in it)
-  const fs::path c = copy_campaign(src);
-  const fs::path out = dst.path() / "out";
+// How a report is killed in KillReportsAtRandomMoments.
+struct KillPlan {
+  bool pdf = false;         // the report writes report.pdf (WeasyPrint, a child process)
+  bool whole_group = true;  // SIGKILL to the report's process group, else to its process only
+  int kills = 8;            // runs killed, each after a delay drawn from the seed
+  std::uint32_t seed = 20261202;
+};
+
+// What KillReportsAtRandomMoments saw, for the test to assert and print.
+struct KillCounts {
+  double first_run_s = 0;
+  int kept_previous = 0;   // kills after which --out held the previous report
+  int got_new = 0;         // kills after which it held the new one (the run had committed)
+  int killed_writing = 0;  // kills that left a temporary folder beside --out (a run under way)
+  int killed_in_pdf = 0;   // of those, kills while WeasyPrint was writing (.print.html there)
+};
+
+// Reports a copy of the campaign into an --out holding a file of the user's, then starts
+// `plan.kills` reports of the campaign under a new name each and kills each one after a random
+// delay of 0.3 to 1.3 times the first run's time; after each kill, --out must be the previous
+// report or the new one, whole (the manifest's files and nothing else, results.json and
+// index.html naming the same campaign), the user's file kept, nothing beside --out but the lock
+// and temporary folders, the campaign unchanged. When only the report's process is killed, its
+// helpers (WeasyPrint) may outlive it: --out is checked again once they are killed too. A last
+// run to its end must clear the temporary folders.
+KillCounts KillReportsAtRandomMoments(const KillPlan& plan, const fs::path& campaign_copy,
+                                      const fs::path& out) {
+  const fs::path& c = campaign_copy;
+  const fs::path beside = out.parent_path();  // nothing else in it
   const Files campaign_files = files_below(c);
+  const std::string pdf_arg = plan.pdf ? "" : " --no-pdf";
+  KillCounts n;
 
   rename_campaign(c, "kill-0");
   const auto t0 = std::chrono::steady_clock::now();
-  const BinaryRun first =
-      run("report " + quoted(c) + " --out " + quoted(out) + " --no-pdf --quiet --jobs 2", src);
-  const double duration =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  ASSERT_EQ(first.status, kExitOk) << first.err;
+  const BinaryRun first = chatterlab::testing::run_chatterlab(
+      "report " + quoted(c) + " --out " + quoted(out) + pdf_arg + " --quiet --jobs 2",
+      c.parent_path());
+  n.first_run_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_EQ(first.status, kExitOk) << first.err;
+  if (first.status != kExitOk) return n;
+  EXPECT_EQ(fs::exists(out / "report.pdf"), plan.pdf);
   std::ofstream(out / "notes.txt") << "the user's\n";
   std::string previous_json = file_text(out / "results.json");
   std::string previous_name = "kill-0";
   Files previous_files = files_below(out);
 
-  std::mt19937 rng(20261202);
-  std::uniform_real_distribution<double> delay(0.3 * duration, 1.3 * duration);
-  int kept_previous = 0, got_new = 0, killed_writing = 0;
-  for (int i = 1; i <= 8; ++i) {
-    SCOPED_TRACE("kill " + std::to_string(i));
-    const std::string name = "kill-" + std::to_string(i);
-    rename_campaign(c, name);
-    const pid_t pid = spawn_report(c, out);
-    ASSERT_GT(pid, 0);
-    std::this_thread::sleep_for(std::chrono::duration<double>(delay(rng)));
-    ::kill(-pid, SIGKILL);
-    int status = 0;
-    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
-
-    ASSERT_TRUE(fs::is_directory(fs::symlink_status(out)));
+  // --out after a kill: the previous report or the new one, whole.
+  const auto check_out = [&](const std::string& name, bool update) {
+    EXPECT_TRUE(fs::is_directory(fs::symlink_status(out)));
     EXPECT_EQ(file_text(out / "notes.txt"), "the user's\n");
     Files files = files_below(out);
     // Every file of the manifest present, and nothing else but the manifest and the user's.
@@ -187,14 +206,16 @@ TEST_F(CliOut, KilledReportLeavesThePreviousOrTheNewOneNeverAMix) {
     expected.push_back("notes.txt");
     std::sort(expected.begin(), expected.end());
     EXPECT_EQ(files, expected);
+    EXPECT_EQ(fs::exists(out / "report.pdf"), plan.pdf);
     const std::string results = file_text(out / "results.json");
     const std::string index = file_text(out / "index.html");
     if (results == previous_json) {
-      ++kept_previous;
+      if (update) ++n.kept_previous;
       EXPECT_EQ(files, previous_files);
       EXPECT_NE(index.find(previous_name), std::string::npos);
     } else {
-      ++got_new;
+      EXPECT_TRUE(update) << "--out changed after the kill, while the report's helpers ran on";
+      ++n.got_new;
       const json j = json::parse(results);
       EXPECT_EQ(j.value("campaign", ""), name);
       EXPECT_NE(index.find(name), std::string::npos);
@@ -203,33 +224,86 @@ TEST_F(CliOut, KilledReportLeavesThePreviousOrTheNewOneNeverAMix) {
       previous_name = name;
       previous_files = files;
     }
+  };
+
+  std::mt19937 rng(plan.seed);
+  std::uniform_real_distribution<double> delay(0.3 * n.first_run_s, 1.3 * n.first_run_s);
+  const std::string out_name = out.filename().string();
+  for (int i = 1; i <= plan.kills; ++i) {
+    SCOPED_TRACE("kill " + std::to_string(i));
+    const std::string name = "kill-" + std::to_string(i);
+    rename_campaign(c, name);
+    const pid_t pid = spawn_report(c, out, plan.pdf);
+    EXPECT_GT(pid, 0);
+    if (pid <= 0) return n;
+    std::this_thread::sleep_for(std::chrono::duration<double>(delay(rng)));
+    ::kill(plan.whole_group ? -pid : pid, SIGKILL);
+    int status = 0;
+    EXPECT_EQ(::waitpid(pid, &status, 0), pid);
+
     // Beside --out: only the lock and temporary folders, which the next run removes.
-    bool left_temp = false;
-    for (const auto& n : names_in(dst.path())) {
-      left_temp = left_temp || n.rfind(".out.chatterlab-tmp-", 0) == 0;
-      EXPECT_TRUE(n == "out" || n == ".out.chatterlab-lock" ||
-                  n.rfind(".out.chatterlab-tmp-", 0) == 0)
-          << n;
+    bool left_temp = false, in_pdf = false;
+    for (const auto& t : names_in(beside)) {
+      const bool temp = t.rfind("." + out_name + ".chatterlab-tmp-", 0) == 0;
+      left_temp = left_temp || temp;
+      in_pdf = in_pdf || (temp && fs::exists(beside / t / ".print.html"));
+      EXPECT_TRUE(t == out_name || t == "." + out_name + ".chatterlab-lock" || temp) << t;
+    }
+    check_out(name, true);
+    if (!plan.whole_group) {
+      // The helpers of the killed report, if any still run, end now; --out is as it was.
+      ::kill(-pid, SIGKILL);
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+      check_out(name, false);
     }
     EXPECT_EQ(files_below(c), campaign_files);  // nothing written into the campaign
-    if (left_temp) ++killed_writing;
+    if (left_temp) ++n.killed_writing;
+    if (in_pdf) ++n.killed_in_pdf;
   }
-  std::cout << "SIGKILL: one run " << duration << " s; " << kept_previous
-            << " kills left the previous report, " << got_new << " the new one; " << killed_writing
-            << " left a temporary folder beside --out\n";
-  // At least one kill landed while the run was under way (its temporary folder left behind).
-  // The delays come from a fixed seed: 1.04, 1.22, 0.59, 0.36, 1.01, 0.85, 0.99 and 0.51 of
-  // the first run's time; all eight miss only if the runs took under 36 % of the first.
-  EXPECT_GE(killed_writing, 1);
 
   // A run to its end: the stale temporary folders are gone, the report is the new one.
   rename_campaign(c, "kill-end");
-  const BinaryRun last =
-      run("report " + quoted(c) + " --out " + quoted(out) + " --no-pdf --quiet --jobs 2", src);
-  ASSERT_EQ(last.status, kExitOk) << last.err;
-  EXPECT_EQ(names_in(dst.path()), (Files{".out.chatterlab-lock", "out"}));
+  const BinaryRun last = chatterlab::testing::run_chatterlab(
+      "report " + quoted(c) + " --out " + quoted(out) + pdf_arg + " --quiet --jobs 2",
+      c.parent_path());
+  EXPECT_EQ(last.status, kExitOk) << last.err;
+  EXPECT_EQ(names_in(beside), (Files{"." + out_name + ".chatterlab-lock", out_name}));
   EXPECT_EQ(json::parse(file_text(out / "results.json")).value("campaign", ""), "kill-end");
   EXPECT_EQ(file_text(out / "notes.txt"), "the user's\n");
+  return n;
+}
+
+TEST_F(CliOut, KilledReportLeavesThePreviousOrTheNewOneNeverAMix) {
+  TempDir src, dst;  // the campaign, and the parent of --out
+  const KillCounts n =
+      KillReportsAtRandomMoments(KillPlan{}, copy_campaign(src), dst.path() / "out");
+  std::cout << "SIGKILL: one run " << n.first_run_s << " s; " << n.kept_previous
+            << " kills left the previous report, " << n.got_new << " the new one; "
+            << n.killed_writing << " left a temporary folder beside --out\n";
+  // At least one kill landed while the run was under way (its temporary folder left behind).
+  // The delays come from a fixed seed: 1.04, 1.22, 0.59, 0.36, 1.01, 0.85, 0.99 and 0.51 of
+  // the first run's time; all eight miss only if the runs took under 36 % of the first.
+  EXPECT_GE(n.killed_writing, 1);
+}
+
+// The report as users run it, with its PDF, killed as `kill -9 <pid>` kills it: the report's
+// process only, while WeasyPrint, its child, may go on writing report.pdf into the report's
+// temporary folder. --out is the previous report or the new one, with its PDF, and stays so once
+// WeasyPrint is killed as well.
+TEST_F(CliOut, KilledReportWithItsPdfLeavesThePreviousOrTheNewOne) {
+  TempDir src, dst;
+  KillPlan plan;
+  plan.pdf = true;
+  plan.whole_group = false;
+  plan.kills = 6;
+  plan.seed = 20261205;
+  const KillCounts n = KillReportsAtRandomMoments(plan, copy_campaign(src), dst.path() / "out");
+  std::cout << "SIGKILL with the PDF: one run " << n.first_run_s << " s; " << n.kept_previous
+            << " kills left the previous report, " << n.got_new << " the new one; "
+            << n.killed_writing << " left a temporary folder beside --out, " << n.killed_in_pdf
+            << " while WeasyPrint was writing\n";
+  EXPECT_GE(n.killed_writing, 1);
+  EXPECT_GE(n.killed_in_pdf, 1);
 }
 
 // results.json that cannot be written (a file size limit, SIGXFSZ ignored: the write fails with
