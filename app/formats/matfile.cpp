@@ -1,5 +1,6 @@
 #include "app/formats/matfile.h"
 
+#include <hdf5.h>
 #include <matio.h>
 #include <unistd.h>
 #include <zlib.h>
@@ -316,27 +317,80 @@ std::string declared_size_problem(mat_t* m, const matvar_t& v, const std::filesy
          (v73 ? "a damaged file, or a dataset never written in full" : "a damaged file") + ")";
 }
 
+// A v7.3 file opened with libhdf5 itself beside libmatio's handle (libhdf5 shares the one open
+// file between the two), for what libmatio does not say: how many bytes a dataset stores per
+// value. A numeric class stores 1 to 8 (a complex one a compound of two, 16 at most); a damaged
+// file may declare any size: a 4,320-byte file whose 2 x 40 doubles each took 691,350,586 bytes
+// made libhdf5 allocate and clear a conversion buffer of that size at every read (2 s under ASan;
+// fuzzing finding 12, docs/fuzzing.md), and the declared-size bound counts values, not bytes.
+class StoredValues {
+ public:
+  StoredValues(const std::filesystem::path& file, bool v73) {
+    if (!v73) return;
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // our questions' errors are answers, not output
+    file_ = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  }
+  ~StoredValues() {
+    if (file_ >= 0) H5Fclose(file_);
+  }
+  StoredValues(const StoredValues&) = delete;
+  StoredValues& operator=(const StoredValues&) = delete;
+
+  // Why the dataset `name` does not store values the size of a numeric class's ("" when it
+  // does, for a v5 file, or when libhdf5 cannot tell: libmatio's read then says why).
+  std::string problem(const std::string& name) const {
+    if (file_ < 0) return "";
+    const hid_t set = H5Dopen2(file_, name.c_str(), H5P_DEFAULT);
+    if (set < 0) return "";
+    const hid_t type = H5Dget_type(set);
+    std::size_t size = 0;
+    bool compound = false;
+    if (type >= 0) {
+      size = H5Tget_size(type);
+      compound = H5Tget_class(type) == H5T_COMPOUND;
+      H5Tclose(type);
+    }
+    H5Dclose(set);
+    const std::size_t most = compound ? 16 : 8;
+    if (size <= most) return "";
+    return "variable '" + name + "' stores values of " + std::to_string(size) +
+           " bytes each, where " + (compound ? "a complex value" : "a value") +
+           " of a MATLAB numeric class takes at most " + std::to_string(most) + " (a damaged file)";
+  }
+
+ private:
+  hid_t file_ = -1;
+};
+
 // The readers below run in a child process (see isolated() further down).
 // A v5 variable declaring more than its file holds is a damaged file, refused whole; a v7.3
-// one is left out of the list (the other variables may be good) and refused when read.
+// one is left out of the list (the other variables may be good) and refused when read, as is a
+// v7.3 one whose stored values are too wide for its class.
 std::vector<Variable> numeric_variables_here(const std::filesystem::path& file) {
   File m = open_read(file);
+  const bool v73 = Mat_GetVersion(m.get()) == MAT_FT_MAT73;
+  const StoredValues stored(file, v73);
   std::vector<Variable> out;
   while (Var v{Mat_VarReadNextInfo(m.get())}) {
     if (!v->name || !numeric_class(v->class_type) || v->rank != 2) continue;
     if (const std::string why = declared_size_problem(m.get(), *v, file); !why.empty()) {
-      if (Mat_GetVersion(m.get()) == MAT_FT_MAT73) continue;
+      if (v73) continue;
       throw InputError(file.string() + ": " + why);
     }
+    if (!stored.problem(v->name).empty()) continue;
     out.push_back({v->name, v->dims[0], v->dims[1], v->isComplex != 0});
   }
   return out;
 }
 
-Var read_numeric(mat_t* m, const std::filesystem::path& file, const std::string& name) {
+Var read_numeric(mat_t* m, const std::filesystem::path& file, const std::string& name,
+                 const StoredValues& stored) {
   const std::string where = file.string() + ": variable '" + name + "'";
   if (const Var info{Mat_VarReadInfo(m, name.c_str())}) {
     if (const std::string why = declared_size_problem(m, *info, file); !why.empty()) {
+      throw InputError(file.string() + ": " + why);
+    }
+    if (const std::string why = stored.problem(name); !why.empty()) {
       throw InputError(file.string() + ": " + why);
     }
   }
@@ -360,9 +414,10 @@ Var read_numeric(mat_t* m, const std::filesystem::path& file, const std::string&
 std::vector<Eigen::MatrixXd> read_matrices_here(const std::filesystem::path& file,
                                                 const std::vector<std::string>& names) {
   File m = open_read(file);
+  const StoredValues stored(file, Mat_GetVersion(m.get()) == MAT_FT_MAT73);
   std::vector<Eigen::MatrixXd> out;
   for (const auto& name : names) {
-    const Var v = read_numeric(m.get(), file, name);
+    const Var v = read_numeric(m.get(), file, name, stored);
     const std::size_t rows = v->dims[0], cols = v->dims[1];
     Eigen::MatrixXd& x =
         out.emplace_back(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
@@ -374,7 +429,8 @@ std::vector<Eigen::MatrixXd> read_matrices_here(const std::filesystem::path& fil
 Eigen::VectorXd read_vector_here(const std::filesystem::path& file, const std::string& name,
                                  std::optional<std::size_t> column) {
   File m = open_read(file);
-  const Var v = read_numeric(m.get(), file, name);
+  const StoredValues stored(file, Mat_GetVersion(m.get()) == MAT_FT_MAT73);
+  const Var v = read_numeric(m.get(), file, name, stored);
   const std::string where = file.string() + ": variable '" + name + "'";
   const std::size_t rows = v->dims[0], cols = v->dims[1];
   const bool vec = rows == 1 || cols == 1;

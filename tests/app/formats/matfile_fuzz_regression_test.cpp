@@ -383,8 +383,10 @@ TEST(MatfileFuzzRegression, AV73DatasetDeclaringMoreThanItsFileHoldsIsRefused) {
 // reverse) that is created and never written: chunked, so that no storage is allocated, its
 // values only the fill value. libmatio cannot write one; MATLAB's matfile() leaves one when a
 // variable is grown and never filled. The MATLAB_class attribute is the one libmatio writes.
+// `type` is the values' type in the file: HDF5's native double unless given (its owner closes
+// it).
 void add_unwritten_dataset(const std::filesystem::path& file, const char* name, hsize_t rows,
-                           hsize_t cols) {
+                           hsize_t cols, hid_t type = H5T_NATIVE_DOUBLE) {
   const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
   ASSERT_GE(f, 0);
   const hsize_t dims[2] = {cols, rows};
@@ -392,7 +394,7 @@ void add_unwritten_dataset(const std::filesystem::path& file, const char* name, 
   const hid_t space = H5Screate_simple(2, dims, nullptr);
   const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
   ASSERT_GE(H5Pset_chunk(dcpl, 2, chunk), 0);
-  const hid_t d = H5Dcreate2(f, name, H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+  const hid_t d = H5Dcreate2(f, name, type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
   ASSERT_GE(d, 0);
   const hid_t text = H5Tcopy(H5T_C_S1);
   H5Tset_size(text, 6);
@@ -435,6 +437,75 @@ TEST(MatfileV73, ADatasetNeverWrittenIsLeftOutAndRefusedWhenRead) {
   EXPECT_EQ(e, file.string() + ": variable 'big' declares 100000000 x 1 values, more than the " +
                    std::to_string(bytes) +
                    "-byte file can hold (a damaged file, or a dataset never written in full)");
+}
+
+// The message for reading `name` of `file` as a vector ("" when it reads).
+std::string read_error(const std::filesystem::path& file, const std::string& name) {
+  try {
+    read_vector(file, name);
+  } catch (const InputError& x) {
+    return x.what();
+  }
+  return "";
+}
+
+// Fuzzing finding 12 (docs/fuzzing.md): a 4,320-byte v7.3 file whose datasets 'M' (2 x 40) and
+// 'force' (1 x 40) store floats of 691,350,586 and 15,112 bytes each. The value count passed
+// the declared-size bound; libhdf5 allocated and cleared a conversion buffer of one value's size
+// at every read (2 s each under ASan, so that an input took 8 s and matfile_fuzz fell from 500
+// to 40 executions a second). Both are now left out of the listing and refused when read, by
+// their stored size, before libhdf5 reads a value.
+TEST(MatfileFuzzRegression, AV73DatasetStoringValuesWiderThanItsClassIsRefused) {
+  if (!v73_supported()) GTEST_SKIP() << "this libmatio cannot read v7.3 files (built without HDF5)";
+  const TempDir dir;
+  const auto file = dir.path() / "wide.mat";
+  std::filesystem::copy_file(
+      std::filesystem::path(CHATTERLAB_TEST_DATA) / "matfile/wide_values_v73.mat", file);
+  EXPECT_TRUE(numeric_variables(file).empty());
+  EXPECT_EQ(read_error(file, "M"), file.string() +
+                                       ": variable 'M' stores values of 691350586 bytes each, "
+                                       "where a value of a MATLAB numeric class takes at most 8 "
+                                       "(a damaged file)");
+  EXPECT_EQ(read_error(file, "force"), file.string() +
+                                           ": variable 'force' stores values of 15112 bytes each, "
+                                           "where a value of a MATLAB numeric class takes at most "
+                                           "8 (a damaged file)");
+}
+
+// The same rule on a made file: beside a good vector, a complex one (a compound of two doubles,
+// 16 bytes, as MATLAB stores one) is listed as complex, and a dataset of 3 x 2 doubles stored
+// 4,096 bytes wide is left out and refused by name.
+TEST(MatfileV73, ADatasetOfWideValuesIsLeftOutAndRefusedWhenRead) {
+  if (!v73_supported())
+    GTEST_SKIP() << "this libmatio cannot create v7.3 files (built without HDF5)";
+  const TempDir dir;
+  const auto file = dir.path() / "wide.mat";
+  const Eigen::VectorXd good = Eigen::VectorXd::LinSpaced(500, -1.0, 1.0);
+  write_mat(file, {{"good", good}}, Version::kV73);
+  const hid_t wide = H5Tcopy(H5T_IEEE_F64LE);
+  ASSERT_GE(H5Tset_size(wide, 4096), 0);
+  add_unwritten_dataset(file, "wide", 3, 2, wide);
+  H5Tclose(wide);
+  const hid_t complex = H5Tcreate(H5T_COMPOUND, 16);
+  H5Tinsert(complex, "real", 0, H5T_NATIVE_DOUBLE);
+  H5Tinsert(complex, "imag", 8, H5T_NATIVE_DOUBLE);
+  add_unwritten_dataset(file, "z", 4, 1, complex);
+  H5Tclose(complex);
+
+  const auto vars = numeric_variables(file);
+  ASSERT_EQ(vars.size(), 2u);
+  EXPECT_EQ(vars[0].name, "good");
+  EXPECT_FALSE(vars[0].complex);
+  EXPECT_EQ(vars[1].name, "z");
+  EXPECT_TRUE(vars[1].complex);
+  EXPECT_EQ(vars[1].rows, 4u);
+  EXPECT_EQ(read_vector(file, "good"), good);
+  EXPECT_EQ(read_error(file, "z"),
+            file.string() + ": variable 'z' is complex: a signal channel must be real");
+  EXPECT_EQ(read_error(file, "wide"), file.string() +
+                                          ": variable 'wide' stores values of 4096 bytes each, "
+                                          "where a value of a MATLAB numeric class takes at most "
+                                          "8 (a damaged file)");
 }
 
 }  // namespace
