@@ -284,49 +284,65 @@ double element(const matvar_t& v, std::size_t i) {
   }
 }
 
-// Why a numeric variable's header declares more values than its file can hold ("" when it
-// does not): uncompressed, every value takes at least one byte; compressed (zlib, MATLAB's only
-// filter in v5 and v7.3 files), at least 1/1100 of one (zlib's ratio stays below 1032:1). A
-// damaged header (e.g. 1090519080 x 3481666 in a 1.3 kB file) is refused before its columns
-// are listed or its data allocated. A v7.3 (HDF5) dataset is bounded as if compressed: one
-// that declares more is damaged or was never written in full (chunks left as HDF5's fill
-// value), and libmatio would allocate and fill all of it (up to 2 GB from a 4 kB file, 4 s a
-// read under ASan while fuzzing; docs/fuzzing.md, "Speed"). Every dimension counts (a 1-D or
-// N-D dataset is allocated whole before it is found not to be a vector or matrix); other
-// classes (sparse, char, struct, cell) are not numeric channels and are not checked.
-std::string declared_size_problem(mat_t* m, const matvar_t& v, const std::filesystem::path& file) {
-  if (!numeric_class(v.class_type) || v.rank < 1 || !v.dims) return "";
+// Whether `v`'s dimensions hold at most `most` values: each dimension is divided out of what is
+// left, so that no product overflows. `dims` is set to "R x C ..." for the messages. A variable
+// with a zero dimension holds nothing and fits.
+bool dims_fit(const matvar_t& v, std::uintmax_t most, std::string* dims) {
   const auto rank = static_cast<std::size_t>(v.rank);
-  if (std::any_of(v.dims, v.dims + rank, [](std::size_t d) { return d == 0; })) return "";
+  if (std::any_of(v.dims, v.dims + rank, [](std::size_t d) { return d == 0; })) return true;
+  bool fits = true;
+  for (std::size_t i = 0; i < rank; ++i) {
+    fits = fits && v.dims[i] <= most;
+    if (fits) most /= v.dims[i];
+    *dims += (i ? " x " : "") + std::to_string(v.dims[i]);
+  }
+  return fits;
+}
+
+// Why a v5 variable's header declares more values than its file can hold ("" when it does not):
+// uncompressed, every value takes at least one byte; compressed (zlib, MATLAB's only filter),
+// at least 1/1100 of one (zlib's ratio stays below 1032:1). A damaged header (e.g. 1090519080 x
+// 3481666 in a 1.3 kB file) is refused before its columns are listed or its data allocated.
+// Every dimension counts (an N-D variable is allocated whole before it is found not to be a
+// vector or matrix); other classes (sparse, char, struct, cell) are not numeric channels and are
+// not checked. A v7.3 file's datasets are checked against what they store (StoredValues).
+std::string declared_size_problem(mat_t* m, const matvar_t& v, const std::filesystem::path& file) {
+  if (Mat_GetVersion(m) == MAT_FT_MAT73) return "";
+  if (!numeric_class(v.class_type) || v.rank < 1 || !v.dims) return "";
   std::error_code ec;
   const std::uintmax_t bytes = std::filesystem::file_size(file, ec);
   if (ec) return "";
-  const bool v73 = Mat_GetVersion(m) == MAT_FT_MAT73;
-  const std::uintmax_t per_byte = v.compression == MAT_COMPRESSION_NONE && !v73 ? 1 : 1100;
-  std::uintmax_t left = bytes * per_byte;  // values the rest of the dimensions may still hold
-  bool fits = true;
+  const std::uintmax_t per_byte = v.compression == MAT_COMPRESSION_NONE ? 1 : 1100;
   std::string dims;
-  for (std::size_t i = 0; i < rank; ++i) {
-    fits = fits && v.dims[i] <= left;
-    if (fits) left /= v.dims[i];
-    dims += (i ? " x " : "") + std::to_string(v.dims[i]);
-  }
-  if (fits) return "";
+  if (dims_fit(v, bytes * per_byte, &dims)) return "";
   return "variable '" + std::string(v.name ? v.name : "") + "' declares " + dims +
-         " values, more than the " + std::to_string(bytes) + "-byte file can hold (" +
-         (v73 ? "a damaged file, or a dataset never written in full" : "a damaged file") + ")";
+         " values, more than the " + std::to_string(bytes) + "-byte file can hold (a damaged file)";
 }
 
 // A v7.3 file opened with libhdf5 itself beside libmatio's handle (libhdf5 shares the one open
-// file between the two), for what libmatio does not say: how many bytes a dataset stores per
-// value. A numeric class stores 1 to 8 (a complex one a compound of two, 16 at most); a damaged
-// file may declare any size: a 4,320-byte file whose 2 x 40 doubles each took 691,350,586 bytes
-// made libhdf5 allocate and clear a conversion buffer of that size at every read (2 s under ASan;
-// fuzzing finding 12, docs/fuzzing.md), and the declared-size bound counts values, not bytes.
+// file between the two), for what libmatio does not say of a numeric dataset: how many bytes it
+// stores per value and in all. libmatio allocates and fills what a dataset declares, and libhdf5
+// gives the fill value for what was never written, so a damaged or unfinished dataset costs what
+// it declares, not what the file holds:
+// - Its values may be 1 to 8 bytes wide (a complex value, a compound of two, 16 at most). A
+//   4,320-byte file whose 2 x 40 doubles each took 691,350,586 bytes made libhdf5 allocate and
+//   clear a conversion buffer of that size at every read (2 s under ASan; fuzzing finding 12,
+//   docs/fuzzing.md).
+// - Its values may take at most the bytes stored for it (never more than the file's size):
+//   exactly, without a filter; 1,100 times as many with one (zlib, MATLAB's only filter, stays
+//   below 1032:1). A dataset created and never written in full (missing chunks read as HDF5's
+//   fill value; MATLAB's matfile() leaves one when a variable is grown and not filled) or whose
+//   header is damaged declares more. Six fuzzed 4 kB files declared 40 x 5,722,881 doubles with
+//   none stored: 1.8 GB allocated and filled at each read (fuzzing finding 11).
+// Such a dataset is left out of the listing, so that the file's other variables are read, and
+// refused by name when read, before libmatio reads it.
 class StoredValues {
  public:
   StoredValues(const std::filesystem::path& file, bool v73) {
     if (!v73) return;
+    std::error_code ec;
+    file_bytes_ = std::filesystem::file_size(file, ec);
+    if (ec) return;
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // our questions' errors are answers, not output
     file_ = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   }
@@ -336,48 +352,62 @@ class StoredValues {
   StoredValues(const StoredValues&) = delete;
   StoredValues& operator=(const StoredValues&) = delete;
 
-  // Why the dataset `name` does not store values the size of a numeric class's ("" when it
-  // does, for a v5 file, or when libhdf5 cannot tell: libmatio's read then says why).
-  std::string problem(const std::string& name) const {
-    if (file_ < 0) return "";
-    const hid_t set = H5Dopen2(file_, name.c_str(), H5P_DEFAULT);
+  // Why the numeric dataset of `v` stores no values of its class, or fewer than it declares (""
+  // when it does not, for a v5 file, or when libhdf5 cannot tell: libmatio's read then says why).
+  std::string problem(const matvar_t& v) const {
+    if (file_ < 0 || !v.name || !numeric_class(v.class_type) || v.rank < 1 || !v.dims) return "";
+    const hid_t set = H5Dopen2(file_, v.name, H5P_DEFAULT);
     if (set < 0) return "";
     const hid_t type = H5Dget_type(set);
-    std::size_t size = 0;
+    std::size_t width = 0;
     bool compound = false;
     if (type >= 0) {
-      size = H5Tget_size(type);
+      width = H5Tget_size(type);
       compound = H5Tget_class(type) == H5T_COMPOUND;
       H5Tclose(type);
     }
+    const hid_t create = H5Dget_create_plist(set);
+    const bool filtered = create >= 0 && H5Pget_nfilters(create) > 0;
+    if (create >= 0) H5Pclose(create);
+    const std::uintmax_t stored = std::min<std::uintmax_t>(H5Dget_storage_size(set), file_bytes_);
     H5Dclose(set);
-    const std::size_t most = compound ? 16 : 8;
-    if (size <= most) return "";
-    return "variable '" + name + "' stores values of " + std::to_string(size) +
-           " bytes each, where " + (compound ? "a complex value" : "a value") +
-           " of a MATLAB numeric class takes at most " + std::to_string(most) + " (a damaged file)";
+
+    const std::string name = v.name;
+    const std::size_t widest = compound ? 16 : 8;
+    if (width > widest) {
+      return "variable '" + name + "' stores values of " + std::to_string(width) +
+             " bytes each, where " + (compound ? "a complex value" : "a value") +
+             " of a MATLAB numeric class takes at most " + std::to_string(widest) +
+             " (a damaged file)";
+    }
+    if (width == 0) return "";
+    std::string dims;
+    if (dims_fit(v, stored * (filtered ? 1100 : 1) / width, &dims)) return "";
+    return "variable '" + name + "' declares " + dims + " values of " + std::to_string(width) +
+           " bytes, more than the " + std::to_string(stored) + " bytes stored for it" +
+           (filtered ? " (compressed)" : "") +
+           " can hold (a damaged file, or a dataset never written in full)";
   }
 
  private:
   hid_t file_ = -1;
+  std::uintmax_t file_bytes_ = 0;
 };
 
 // The readers below run in a child process (see isolated() further down).
 // A v5 variable declaring more than its file holds is a damaged file, refused whole; a v7.3
-// one is left out of the list (the other variables may be good) and refused when read, as is a
-// v7.3 one whose stored values are too wide for its class.
+// dataset whose stored values are too wide or too few is left out of the list (the other
+// variables may be good) and refused when read.
 std::vector<Variable> numeric_variables_here(const std::filesystem::path& file) {
   File m = open_read(file);
-  const bool v73 = Mat_GetVersion(m.get()) == MAT_FT_MAT73;
-  const StoredValues stored(file, v73);
+  const StoredValues stored(file, Mat_GetVersion(m.get()) == MAT_FT_MAT73);
   std::vector<Variable> out;
   while (Var v{Mat_VarReadNextInfo(m.get())}) {
     if (!v->name || !numeric_class(v->class_type) || v->rank != 2) continue;
     if (const std::string why = declared_size_problem(m.get(), *v, file); !why.empty()) {
-      if (v73) continue;
       throw InputError(file.string() + ": " + why);
     }
-    if (!stored.problem(v->name).empty()) continue;
+    if (!stored.problem(*v).empty()) continue;
     out.push_back({v->name, v->dims[0], v->dims[1], v->isComplex != 0});
   }
   return out;
@@ -390,7 +420,7 @@ Var read_numeric(mat_t* m, const std::filesystem::path& file, const std::string&
     if (const std::string why = declared_size_problem(m, *info, file); !why.empty()) {
       throw InputError(file.string() + ": " + why);
     }
-    if (const std::string why = stored.problem(name); !why.empty()) {
+    if (const std::string why = stored.problem(*info); !why.empty()) {
       throw InputError(file.string() + ": " + why);
     }
   }

@@ -354,13 +354,13 @@ TEST(MatfileReaderReuse, AKeptReaderProcessReadsAsAProcessPerReadDoes) {
   EXPECT_EQ(read_vector(good, "M", 1), per_read_column);
 }
 
-// A 4,320-byte v7.3 file from the fuzz corpus (a mutation of the v7.3 seed) whose dataset
-// declares far more values than 4,320 bytes can store even compressed, with no data written:
-// libmatio allocated and filled all of it, 4 s a read under ASan, and inputs like it held
-// matfile_fuzz to 25 executions a second (docs/fuzzing.md, "Speed"). Its header is now bounded
-// as a compressed v5 variable's is (1,100 values per byte of file): the variable is left out
-// of the listing (the file's other variables stay readable) and refused when read, before
-// libmatio allocates it.
+// Fuzzing finding 11 (docs/fuzzing.md): a 4,320-byte v7.3 file from the fuzz corpus (a mutation
+// of the v7.3 seed) whose dataset declares 40 x 5,722,881 values with none written: libmatio
+// allocated and filled all of it, 4 s a read under ASan, and inputs like it held matfile_fuzz to
+// 25 executions a second. The dataset also stores its values 15,112 bytes wide, which refuses
+// it first now (finding 12): it is left out of the listing and refused when read, before
+// libmatio allocates it. MatfileV73.ADatasetNotWrittenInFull... tests the bound on what a
+// dataset stores.
 TEST(MatfileFuzzRegression, AV73DatasetDeclaringMoreThanItsFileHoldsIsRefused) {
   if (!v73_supported()) GTEST_SKIP() << "this libmatio cannot read v7.3 files (built without HDF5)";
   const TempDir dir;
@@ -375,18 +375,20 @@ TEST(MatfileFuzzRegression, AV73DatasetDeclaringMoreThanItsFileHoldsIsRefused) {
     read = e.what();
   }
   EXPECT_EQ(read, file.string() +
-                      ": variable 'forcc' declares 40 x 5722881 values, more than the 4320-byte "
-                      "file can hold (a damaged file, or a dataset never written in full)");
+                      ": variable 'forcc' stores values of 15112 bytes each, where a value of a "
+                      "MATLAB numeric class takes at most 8 (a damaged file)");
 }
 
 // Adds to a v7.3 file a double dataset `name` of rows x cols (MATLAB's order; HDF5's is the
-// reverse) that is created and never written: chunked, so that no storage is allocated, its
+// reverse), chunked by columns of at most 1,024 values, of which only the first `written_rows`
+// rows of one column are written, from `data` (none by default): the rest holds no storage, its
 // values only the fill value. libmatio cannot write one; MATLAB's matfile() leaves one when a
-// variable is grown and never filled. The MATLAB_class attribute is the one libmatio writes.
-// `type` is the values' type in the file: HDF5's native double unless given (its owner closes
-// it).
-void add_unwritten_dataset(const std::filesystem::path& file, const char* name, hsize_t rows,
-                           hsize_t cols, hid_t type = H5T_NATIVE_DOUBLE) {
+// variable is grown and not filled. The MATLAB_class attribute is the one libmatio writes.
+// `type` is the values' type in the file and in `data`: HDF5's native double unless given (its
+// owner closes it). With `deflate`, the chunks are compressed as MATLAB compresses them (zlib).
+void add_dataset(const std::filesystem::path& file, const char* name, hsize_t rows, hsize_t cols,
+                 hid_t type = H5T_NATIVE_DOUBLE, const void* data = nullptr,
+                 hsize_t written_rows = 0, bool deflate = false) {
   const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
   ASSERT_GE(f, 0);
   const hsize_t dims[2] = {cols, rows};
@@ -394,8 +396,18 @@ void add_unwritten_dataset(const std::filesystem::path& file, const char* name, 
   const hid_t space = H5Screate_simple(2, dims, nullptr);
   const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
   ASSERT_GE(H5Pset_chunk(dcpl, 2, chunk), 0);
+  if (deflate) {
+    ASSERT_GE(H5Pset_deflate(dcpl, 9), 0);
+  }
   const hid_t d = H5Dcreate2(f, name, type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
   ASSERT_GE(d, 0);
+  if (data && written_rows > 0) {
+    const hsize_t start[2] = {0, 0}, count[2] = {1, written_rows};
+    ASSERT_GE(H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, count, nullptr), 0);
+    const hid_t memory = H5Screate_simple(1, &written_rows, nullptr);
+    ASSERT_GE(H5Dwrite(d, type, memory, space, H5P_DEFAULT, data), 0);
+    H5Sclose(memory);
+  }
   const hid_t text = H5Tcopy(H5T_C_S1);
   H5Tset_size(text, 6);
   const hid_t scalar = H5Screate(H5S_SCALAR);
@@ -410,35 +422,6 @@ void add_unwritten_dataset(const std::filesystem::path& file, const char* name, 
   H5Fclose(f);
 }
 
-// The same bound on a made file: a good vector beside a dataset declaring 100,000,000 values
-// (800 MB) with no data. The listing holds the good one only, the good one reads, and the
-// other is refused by name when read, before libmatio allocates its 800 MB.
-TEST(MatfileV73, ADatasetNeverWrittenIsLeftOutAndRefusedWhenRead) {
-  if (!v73_supported())
-    GTEST_SKIP() << "this libmatio cannot create v7.3 files (built without HDF5)";
-  const TempDir dir;
-  const auto file = dir.path() / "grown.mat";
-  const Eigen::VectorXd good = Eigen::VectorXd::LinSpaced(500, -1.0, 1.0);
-  write_mat(file, {{"good", good}}, Version::kV73);
-  add_unwritten_dataset(file, "big", 100000000, 1);
-  const auto bytes = std::filesystem::file_size(file);
-  ASSERT_LT(bytes, 100000000u / 1100) << "the file must be small for the bound to apply";
-
-  const auto vars = numeric_variables(file);
-  ASSERT_EQ(vars.size(), 1u);
-  EXPECT_EQ(vars[0].name, "good");
-  EXPECT_EQ(read_vector(file, "good"), good);
-  std::string e;
-  try {
-    read_vector(file, "big");
-  } catch (const InputError& x) {
-    e = x.what();
-  }
-  EXPECT_EQ(e, file.string() + ": variable 'big' declares 100000000 x 1 values, more than the " +
-                   std::to_string(bytes) +
-                   "-byte file can hold (a damaged file, or a dataset never written in full)");
-}
-
 // The message for reading `name` of `file` as a vector ("" when it reads).
 std::string read_error(const std::filesystem::path& file, const std::string& name) {
   try {
@@ -447,6 +430,48 @@ std::string read_error(const std::filesystem::path& file, const std::string& nam
     return x.what();
   }
   return "";
+}
+
+// The bound on what a v7.3 dataset stores, on a made file. Beside a good vector (contiguous,
+// written by libmatio): 'big' declares 100,000,000 values (800 MB) and stores none; 'half'
+// declares 2,048 and stores the first of its two chunks of 1,024 (8,192 bytes of 16,384);
+// 'full' declares 2,048 and stores both; 'zeros' declares 100,000 zeros and stores them
+// compressed, far fewer bytes than their 800,000 (zlib, as MATLAB writes large variables). The
+// listing holds 'full', the good vector and 'zeros', which read; 'big' and 'half' are refused by
+// name when read, before libmatio allocates them.
+TEST(MatfileV73, ADatasetNotWrittenInFullIsLeftOutAndRefusedWhenRead) {
+  if (!v73_supported())
+    GTEST_SKIP() << "this libmatio cannot create v7.3 files (built without HDF5)";
+  const TempDir dir;
+  const auto file = dir.path() / "grown.mat";
+  const Eigen::VectorXd good = Eigen::VectorXd::LinSpaced(500, -1.0, 1.0);
+  const Eigen::VectorXd ramp = Eigen::VectorXd::LinSpaced(2048, 0.0, 2047.0);
+  write_mat(file, {{"good", good}}, Version::kV73);
+  add_dataset(file, "big", 100000000, 1);
+  add_dataset(file, "half", 2048, 1, H5T_NATIVE_DOUBLE, ramp.data(), 1024);
+  add_dataset(file, "full", 2048, 1, H5T_NATIVE_DOUBLE, ramp.data(), 2048);
+  const Eigen::VectorXd zeros = Eigen::VectorXd::Zero(100000);
+  add_dataset(file, "zeros", 100000, 1, H5T_NATIVE_DOUBLE, zeros.data(), 100000, true);
+  ASSERT_LT(std::filesystem::file_size(file), 100000u) << "the zeros must be stored compressed";
+
+  const auto vars = numeric_variables(file);
+  ASSERT_EQ(vars.size(), 3u);
+  EXPECT_EQ(vars[0].name, "full");
+  EXPECT_EQ(vars[1].name, "good");
+  EXPECT_EQ(vars[2].name, "zeros");
+  EXPECT_EQ(read_vector(file, "good"), good);
+  EXPECT_EQ(read_vector(file, "full"), ramp);
+  EXPECT_EQ(read_vector(file, "zeros"), zeros);
+  EXPECT_EQ(read_error(file, "big"),
+            file.string() +
+                ": variable 'big' declares 100000000 x 1 values of 8 bytes, more than the 0 "
+                "bytes stored for it can hold (a damaged file, or a dataset never written in "
+                "full)");
+  EXPECT_EQ(read_error(file, "half"),
+            file.string() +
+                ": variable 'half' declares 2048 x 1 values of 8 bytes, more than the 8192 "
+                "bytes stored for it can hold (a damaged file, or a dataset never written in "
+                "full)");
 }
 
 // Fuzzing finding 12 (docs/fuzzing.md): a 4,320-byte v7.3 file whose datasets 'M' (2 x 40) and
@@ -484,12 +509,13 @@ TEST(MatfileV73, ADatasetOfWideValuesIsLeftOutAndRefusedWhenRead) {
   write_mat(file, {{"good", good}}, Version::kV73);
   const hid_t wide = H5Tcopy(H5T_IEEE_F64LE);
   ASSERT_GE(H5Tset_size(wide, 4096), 0);
-  add_unwritten_dataset(file, "wide", 3, 2, wide);
+  add_dataset(file, "wide", 3, 2, wide);
   H5Tclose(wide);
   const hid_t complex = H5Tcreate(H5T_COMPOUND, 16);
   H5Tinsert(complex, "real", 0, H5T_NATIVE_DOUBLE);
   H5Tinsert(complex, "imag", 8, H5T_NATIVE_DOUBLE);
-  add_unwritten_dataset(file, "z", 4, 1, complex);
+  const std::vector<double> z = {1, -1, 2, -2, 3, -3, 4, -4};  // real, imag of 4 values
+  add_dataset(file, "z", 4, 1, complex, z.data(), 4);
   H5Tclose(complex);
 
   const auto vars = numeric_variables(file);
