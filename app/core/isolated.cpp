@@ -352,7 +352,10 @@ void ByteWriter::u64(std::uint64_t v) {
   bytes_.append(reinterpret_cast<const char*>(&v), sizeof v);
 }
 
+// An empty Eigen vector's data() is null, and memcpy and append of no bytes from or to null
+// are undefined (fuzzing finding 13: UBSan, a 0 x 5 .mat matrix read as a column).
 void ByteWriter::f64(const double* values, std::size_t n) {
+  if (n == 0) return;
   bytes_.append(reinterpret_cast<const char*>(values), n * sizeof(double));
 }
 
@@ -374,6 +377,7 @@ std::uint64_t ByteReader::u64() {
 }
 
 void ByteReader::f64(double* out, std::size_t n) {
+  if (n == 0) return;
   if (n > (bytes_.size() - pos_) / sizeof(double)) need(bytes_.size() - pos_ + 1);
   std::memcpy(out, bytes_.data() + pos_, n * sizeof(double));
   pos_ += n * sizeof(double);

@@ -433,7 +433,9 @@ Var read_numeric(mat_t* m, const std::filesystem::path& file, const std::string&
     throw InputError(where + " is not in the file (numeric variables: " +
                      (names.empty() ? "none" : names) + ")" + matio_said());
   }
-  if (!numeric_class(v->class_type) || v->rank != 2 || !v->data) {
+  // An empty matrix has no data (libmatio leaves it null in a v7.3 file) and reads as empty.
+  if (!numeric_class(v->class_type) || v->rank != 2 ||
+      (!v->data && v->dims[0] != 0 && v->dims[1] != 0)) {
     throw InputError(where + " is not a numeric vector or matrix" +
                      (v->rank != 2 ? " (" + std::to_string(v->rank) + "-D)" : std::string()));
   }

@@ -534,5 +534,20 @@ TEST(MatfileV73, ADatasetOfWideValuesIsLeftOutAndRefusedWhenRead) {
                                           "8 (a damaged file)");
 }
 
+// Fuzzing finding 13 (docs/fuzzing.md): a v5 matrix of 0 x 5 doubles, whose last column the
+// fuzz target read, came back from the reader process as no values from a null pointer
+// (undefined in memcpy; UBSan ended the target). A column of a matrix with no rows is an empty
+// vector, in a v5 file and a v7.3 one.
+TEST(MatfileFuzzRegression, AColumnOfAMatrixWithNoRowsIsEmpty) {
+  const TempDir dir;
+  for (const Version version : {Version::kV5, Version::kV73}) {
+    if (version == Version::kV73 && !v73_supported()) continue;
+    const auto file = dir.path() / (version == Version::kV5 ? "v5.mat" : "v73.mat");
+    write_mat(file, {{"M", Eigen::MatrixXd(0, 5)}}, version);
+    SCOPED_TRACE(file.filename().string());
+    EXPECT_EQ(read_vector(file, "M", 4).size(), 0);
+  }
+}
+
 }  // namespace
 }  // namespace chatterlab::app::mat
