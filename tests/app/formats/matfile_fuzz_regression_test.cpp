@@ -241,6 +241,26 @@ TEST(MatfileFuzzRegression, NameTagBeyondItsVariableIsRefusedBeforeLibmatio) {
   }
 }
 
+// Fuzzing finding 14 (docs/fuzzing.md): a 206-byte v5 file whose first variable is 28 bytes
+// long, too short for the name's tag after its array flags and dimensions. libmatio reads that
+// tag anyway, from the next element's bytes, and allocated and cleared the 251 MB they declare:
+// 1.2 s a read in a Release build, the reader time limit in the fuzz target (6.9 s an input).
+TEST(MatfileFuzzRegression, AVariableTooShortForItsNameIsRefusedBeforeLibmatio) {
+  const TempDir dir;
+  const auto file = dir.path() / "finding14.mat";
+  std::filesystem::copy_file(
+      std::filesystem::path(CHATTERLAB_TEST_DATA) / "matfile/finding14_name_past_variable.mat",
+      file);
+  try {
+    numeric_variables(file);
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), file.string() +
+                                         ": element 1 (at byte 128): its name's tag lies past "
+                                         "the 28 bytes of the variable (a damaged file)");
+  }
+}
+
 // set_reader_time_limit: a .mat read is killed after the limit. A FIFO cannot stand in (the
 // header check refuses it first), so the limit is shown to reach the reader process by a
 // limit of zero, which no read meets.
