@@ -113,6 +113,10 @@ for t in "${targets[@]}"; do
     LSAN_OPTIONS="suppressions=$root/fuzz/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}" \
     nice -n 19 "$build/fuzz/${t}_fuzz" "${args[@]}" "$work" "$root/fuzz/corpus/$t" >"$log" 2>&1; then
     result=ok
+  elif tail -n 8 "$log" | grep -q 'libFuzzer: run interrupted; exiting'; then
+    # Stopped with SIGINT (kill -INT of the fuzzer): its final stats are in the log, and the
+    # executions up to then count.
+    result=interrupted
   else
     result="FAILED (see $log and $artifacts/)"
     # A timeout that its input does not repeat when run again alone is the machine's load, not
