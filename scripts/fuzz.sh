@@ -87,7 +87,11 @@ for t in "${targets[@]}"; do
   # can take from a 4 kB input (76 MB), and below the 1 GB libmatio callocs for a count it reads
   # from a damaged 1.5 kB v5 file. ASan clears what it allocates, so each such input took 3.2 s
   # and the kept corpus drifted to them (150 exec/s); past the limit the reader process ends at
-  # once, a contained failure (docs/fuzzing.md, "Speed").
+  # once, a contained failure (docs/fuzzing.md, "Speed"). And with allocator_may_return_null,
+  # libmatio's and libhdf5's malloc past it returns null, which they check, instead of ending the
+  # reader process: 4 times fewer reader processes ended, 357 exec/s against 263 on the same
+  # 15,000 inputs. operator new still reports past the limit, so the target's own C++ code is
+  # held to it as before.
   args=(-timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=1048576 -print_final_stats=1
     "-artifact_prefix=$artifacts/")
   if [ -n "$runs" ]; then args+=("-runs=$runs"); else args+=("-max_total_time=$seconds"); fi
@@ -106,7 +110,7 @@ for t in "${targets[@]}"; do
   run_opts="symbolize=1"
   alloc_mb=2048
   case "$t" in
-    matfile) run_opts="symbolize=0" alloc_mb=640 ;;
+    matfile) run_opts="symbolize=0:allocator_may_return_null=1" alloc_mb=640 ;;
     campaign | test_yaml) run_opts="symbolize=1:malloc_context_size=0" ;;
   esac
   if ASAN_OPTIONS="max_allocation_size_mb=$alloc_mb:$run_opts${ASAN_OPTIONS:+:$ASAN_OPTIONS}" \
@@ -162,8 +166,8 @@ printf '%s\n' "${summary[@]}"
 # (contained failures, not findings): the target's own report is the last one in the log.
 for t in "${failures[@]}"; do
   log="$build/fuzz-$t.log"
-  alloc_mb=2048
-  if [ "$t" = matfile ]; then alloc_mb=640; fi
+  alloc_mb=2048 may_null=""
+  if [ "$t" = matfile ]; then alloc_mb=640 may_null=":allocator_may_return_null=1"; fi
   artifacts="$build/fuzz-artifacts/$t"
   echo "== $t: the finding ($(sed -n 's/^INFO: Seed: //p' "$log" | head -1 | sed 's/^/seed /'))"
   # From a few lines before the last report's ERROR line (an uncaught exception's "terminate
@@ -179,7 +183,7 @@ for t in "${failures[@]}"; do
     # The run was unsymbolized or without allocation stacks (above): the input once more, for
     # the full report with file and line.
     echo "$t: the input replayed with a full report (log $log.replay):"
-    ASAN_OPTIONS="max_allocation_size_mb=$alloc_mb:symbolize=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}" \
+    ASAN_OPTIONS="max_allocation_size_mb=$alloc_mb$may_null:symbolize=1${ASAN_OPTIONS:+:$ASAN_OPTIONS}" \
       LSAN_OPTIONS="suppressions=$root/fuzz/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}" \
       "$build/fuzz/${t}_fuzz" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=1048576 \
       "$input" >"$log.replay" 2>&1 || true
