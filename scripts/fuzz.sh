@@ -18,8 +18,9 @@
 # Each target starts from its seed corpus fuzz/corpus/<target>/ (read only) and keeps what it
 # finds in <build>/fuzz-corpus/<target>/ (with -f: see above); crashes go to
 # <build>/fuzz-artifacts/<target>/. Each run adds a line to <build>/fuzz-history.tsv (times,
-# target, commit, seed, corpus folder, executions, exec/s, and ok, FAILED or
-# timeout-not-reproduced: a timeout whose input, run once more alone, finishes in time).
+# target, commit, seed, corpus folder, executions, exec/s, and ok, FAILED,
+# timeout-not-reproduced (a timeout whose input, run once more alone, finishes in time) or
+# interrupted (the fuzzer stopped with SIGINT, e.g. Ctrl-C: the targets after it are not run).
 # Runs under nice -n 19, one target at a time. Exit status 1 when a target failed; then the
 # end of the output names the finding (libFuzzer's and the sanitizer's summary lines, the top
 # of the stack) and gives the saved input in base64, so that a failure in CI, whose build
@@ -117,9 +118,9 @@ for t in "${targets[@]}"; do
     LSAN_OPTIONS="suppressions=$root/fuzz/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}" \
     nice -n 19 "$build/fuzz/${t}_fuzz" "${args[@]}" "$work" "$root/fuzz/corpus/$t" >"$log" 2>&1; then
     result=ok
-  elif tail -n 8 "$log" | grep -q 'libFuzzer: run interrupted; exiting'; then
-    # Stopped with SIGINT (kill -INT of the fuzzer): its final stats are in the log, and the
-    # executions up to then count.
+  elif grep -q 'libFuzzer: run interrupted; exiting' "$log"; then
+    # Stopped with SIGINT (Ctrl-C, or kill -INT of the fuzzer; the .mat reader processes do
+    # not print this): its final stats are in the log, and the executions up to then count.
     result=interrupted
   else
     result="FAILED (see $log and $artifacts/)"
@@ -158,6 +159,7 @@ for t in "${targets[@]}"; do
     "$built_commit" \
     "$(sed -n 's/^INFO: Seed: //p' "$log" | head -1)" "$(basename "$(dirname "$work")")" \
     "${execs:-?}" "${rate:-?}" "${result%% *}" >>"$history"
+  if [ "$result" = interrupted ]; then break; fi  # the user stopped the run
 done
 echo "== summary"
 printf '%s\n' "${summary[@]}"

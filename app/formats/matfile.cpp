@@ -336,16 +336,20 @@ std::string declared_size_problem(mat_t* m, const matvar_t& v, const std::filesy
 //   clear a conversion buffer of that size at every read (2 s under ASan; fuzzing finding 12,
 //   docs/fuzzing.md).
 // - Its values may take at most the bytes stored for it (never more than the file's size):
-//   exactly, without a filter; 1,100 times as many with one (zlib, MATLAB's only filter, stays
-//   below 1032:1). A dataset created and never written in full (missing chunks read as HDF5's
-//   fill value; MATLAB's matfile() leaves one when a variable is grown and not filled) or whose
-//   header is damaged declares more. Six fuzzed 4 kB files declared 40 x 5,722,881 doubles with
-//   none stored: 1.8 GB allocated and filled at each read (fuzzing finding 11).
+//   exactly, without a filter; 1,100 times as many with any filter (zlib, MATLAB's only one,
+//   stays below 1032:1). A chunked dataset whose chunks were not all written (the missing ones
+//   read as HDF5's fill value; MATLAB's matfile() leaves one when a variable is grown and not
+//   filled; MATLAB reads the gaps as zeros) or whose header is damaged declares more. A
+//   contiguous dataset's storage is allocated whole, written or not, and passes. Six fuzzed 4 kB
+//   files declared 40 x 5,722,881 doubles with none stored: 1.8 GB allocated and filled at each
+//   read (fuzzing finding 11).
 // Such a dataset is left out of the listing, so that the file's other variables are read, and
-// refused by name when read, before libmatio reads it.
+// refused by name when read, before libmatio reads it. Not covered: libmatio reads a dataset
+// marked MATLAB_empty (its dimensions stored as its values) whole while it lists the file,
+// before this check; a damaged one is contained by the reader process only.
 class StoredValues {
  public:
-  StoredValues(const std::filesystem::path& file, bool v73) {
+  StoredValues(const std::filesystem::path& file, bool v73) : v73_(v73) {
     if (!v73) return;
     std::error_code ec;
     file_bytes_ = std::filesystem::file_size(file, ec);
@@ -360,26 +364,39 @@ class StoredValues {
   StoredValues& operator=(const StoredValues&) = delete;
 
   // Why the numeric dataset of `v` stores no values of its class, or fewer than it declares (""
-  // when it does not, for a v5 file, or when libhdf5 cannot tell: libmatio's read then says why).
+  // when it does not, and for a v5 file). When libhdf5 cannot say what the dataset stores, its
+  // declaration is bounded by the file's size as a compressed variable's is, 1,100 values a byte.
   std::string problem(const matvar_t& v) const {
-    if (file_ < 0 || !v.name || !numeric_class(v.class_type) || v.rank < 1 || !v.dims) return "";
-    const hid_t set = H5Dopen2(file_, v.name, H5P_DEFAULT);
-    if (set < 0) return "";
-    const hid_t type = H5Dget_type(set);
-    std::size_t width = 0;
-    bool compound = false;
-    if (type >= 0) {
-      width = H5Tget_size(type);
-      compound = H5Tget_class(type) == H5T_COMPOUND;
-      H5Tclose(type);
-    }
-    const hid_t create = H5Dget_create_plist(set);
-    const bool filtered = create >= 0 && H5Pget_nfilters(create) > 0;
-    if (create >= 0) H5Pclose(create);
-    const std::uintmax_t stored = std::min<std::uintmax_t>(H5Dget_storage_size(set), file_bytes_);
-    H5Dclose(set);
-
+    if (!v73_ || !v.name || !numeric_class(v.class_type) || v.rank < 1 || !v.dims) return "";
     const std::string name = v.name;
+    std::size_t width = 0;
+    bool compound = false, filtered = false, known = false;
+    std::uintmax_t stored = 0;
+    if (const hid_t set = file_ >= 0 ? H5Dopen2(file_, v.name, H5P_DEFAULT) : -1; set >= 0) {
+      if (const hid_t type = H5Dget_type(set); type >= 0) {
+        width = H5Tget_size(type);
+        compound = H5Tget_class(type) == H5T_COMPOUND;
+        H5Tclose(type);
+      }
+      if (const hid_t create = H5Dget_create_plist(set); create >= 0) {
+        filtered = H5Pget_nfilters(create) > 0;
+        H5Pclose(create);
+      }
+      // 0 bytes is also libhdf5's answer to an error: taken as an answer only when the
+      // dataset's space is reported not allocated.
+      stored = std::min<std::uintmax_t>(H5Dget_storage_size(set), file_bytes_);
+      H5D_space_status_t status{};
+      known = width > 0 && (stored > 0 || (H5Dget_space_status(set, &status) >= 0 &&
+                                           status == H5D_SPACE_STATUS_NOT_ALLOCATED));
+      H5Dclose(set);
+    }
+    std::string dims;
+    if (!known) {
+      if (dims_fit(v, file_bytes_ * 1100, &dims)) return "";
+      return "variable '" + name + "' declares " + dims + " values, more than the " +
+             std::to_string(file_bytes_) +
+             "-byte file can hold (a damaged file, or a dataset never written in full)";
+    }
     const std::size_t widest = compound ? 16 : 8;
     if (width > widest) {
       return "variable '" + name + "' stores values of " + std::to_string(width) +
@@ -387,8 +404,6 @@ class StoredValues {
              " of a MATLAB numeric class takes at most " + std::to_string(widest) +
              " (a damaged file)";
     }
-    if (width == 0) return "";
-    std::string dims;
     if (dims_fit(v, stored * (filtered ? 1100 : 1) / width, &dims)) return "";
     return "variable '" + name + "' declares " + dims + " values of " + std::to_string(width) +
            " bytes, more than the " + std::to_string(stored) + " bytes stored for it" +
@@ -397,6 +412,7 @@ class StoredValues {
   }
 
  private:
+  bool v73_ = false;
   hid_t file_ = -1;
   std::uintmax_t file_bytes_ = 0;
 };

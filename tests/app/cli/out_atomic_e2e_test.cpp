@@ -154,6 +154,10 @@ struct KillPlan {
   bool whole_group = true;  // SIGKILL to the report's process group, else to its process only
   int kills = 8;            // runs killed, each after a delay drawn from the seed
   std::uint32_t seed = 20261202;
+  // Every second kill waits for the run's WeasyPrint to start (its .print.html in the run's
+  // temporary folder) and lands a delay of up to 0.3 times the first run's time after it, so
+  // that kills land in the PDF's writing however long the runs take.
+  bool every_second_in_pdf = false;
 };
 
 // What KillReportsAtRandomMoments saw, for the test to assert and print.
@@ -233,20 +237,45 @@ KillCounts KillReportsAtRandomMoments(const KillPlan& plan, const fs::path& camp
     SCOPED_TRACE("kill " + std::to_string(i));
     const std::string name = "kill-" + std::to_string(i);
     rename_campaign(c, name);
+    // This run's temporary folder is one not beside --out before it starts (an earlier killed
+    // run's stays until this one removes it).
+    const Files before = names_in(beside);
+    const std::string temp_prefix = "." + out_name + ".chatterlab-tmp-";
+    const auto this_runs_temp = [&](const std::string& t) {
+      return t.rfind(temp_prefix, 0) == 0 &&
+             std::find(before.begin(), before.end(), t) == before.end();
+    };
     const pid_t pid = spawn_report(c, out, plan.pdf);
     EXPECT_GT(pid, 0);
     if (pid <= 0) return n;
-    std::this_thread::sleep_for(std::chrono::duration<double>(delay(rng)));
+    const double wait_s = delay(rng);  // drawn for every kill, so the sequence stays the seed's
+    if (plan.every_second_in_pdf && i % 2 == 0) {
+      bool printing = false;
+      const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+      while (!printing && std::chrono::steady_clock::now() < until) {
+        for (const auto& t : names_in(beside)) {
+          printing = printing || (this_runs_temp(t) && fs::exists(beside / t / ".print.html"));
+        }
+        if (!printing) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      }
+      EXPECT_TRUE(printing) << "the run's WeasyPrint did not start within 120 s";
+      std::this_thread::sleep_for(
+          std::chrono::duration<double>((wait_s / n.first_run_s - 0.3) * 0.3 * n.first_run_s));
+    } else {
+      std::this_thread::sleep_for(std::chrono::duration<double>(wait_s));
+    }
     ::kill(plan.whole_group ? -pid : pid, SIGKILL);
-    int status = 0;
-    EXPECT_EQ(::waitpid(pid, &status, 0), pid);
+    // Waited for but not reaped until the end of this kill's checks, so that its process group
+    // id stays its own while its helpers are killed below.
+    siginfo_t ended{};
+    EXPECT_EQ(::waitid(P_PID, static_cast<id_t>(pid), &ended, WEXITED | WNOWAIT), 0);
 
     // Beside --out: only the lock and temporary folders, which the next run removes.
     bool left_temp = false, in_pdf = false;
     for (const auto& t : names_in(beside)) {
-      const bool temp = t.rfind("." + out_name + ".chatterlab-tmp-", 0) == 0;
-      left_temp = left_temp || temp;
-      in_pdf = in_pdf || (temp && fs::exists(beside / t / ".print.html"));
+      const bool temp = t.rfind(temp_prefix, 0) == 0;
+      left_temp = left_temp || this_runs_temp(t);
+      in_pdf = in_pdf || (this_runs_temp(t) && fs::exists(beside / t / ".print.html"));
       EXPECT_TRUE(t == out_name || t == "." + out_name + ".chatterlab-lock" || temp) << t;
     }
     check_out(name, true);
@@ -256,6 +285,8 @@ KillCounts KillReportsAtRandomMoments(const KillPlan& plan, const fs::path& camp
       std::this_thread::sleep_for(std::chrono::milliseconds(200));
       check_out(name, false);
     }
+    int status = 0;
+    EXPECT_EQ(::waitpid(pid, &status, 0), pid);
     EXPECT_EQ(files_below(c), campaign_files);  // nothing written into the campaign
     if (left_temp) ++n.killed_writing;
     if (in_pdf) ++n.killed_in_pdf;
@@ -289,7 +320,7 @@ TEST_F(CliOut, KilledReportLeavesThePreviousOrTheNewOneNeverAMix) {
 // The report as users run it, with its PDF, killed as `kill -9 <pid>` kills it: the report's
 // process only, while WeasyPrint, its child, may go on writing report.pdf into the report's
 // temporary folder. --out is the previous report or the new one, with its PDF, and stays so once
-// WeasyPrint is killed as well.
+// WeasyPrint is killed as well. Every second kill lands while WeasyPrint writes.
 TEST_F(CliOut, KilledReportWithItsPdfLeavesThePreviousOrTheNewOne) {
   TempDir src, dst;
   KillPlan plan;
@@ -297,6 +328,7 @@ TEST_F(CliOut, KilledReportWithItsPdfLeavesThePreviousOrTheNewOne) {
   plan.whole_group = false;
   plan.kills = 6;
   plan.seed = 20261205;
+  plan.every_second_in_pdf = true;
   const KillCounts n = KillReportsAtRandomMoments(plan, copy_campaign(src), dst.path() / "out");
   std::cout << "SIGKILL with the PDF: one run " << n.first_run_s << " s; " << n.kept_previous
             << " kills left the previous report, " << n.got_new << " the new one; "

@@ -401,7 +401,7 @@ TEST(MatfileFuzzRegression, AV73DatasetDeclaringMoreThanItsFileHoldsIsRefused) {
 
 // Adds to a v7.3 file a double dataset `name` of rows x cols (MATLAB's order; HDF5's is the
 // reverse), chunked by columns of at most 1,024 values, of which only the first `written_rows`
-// rows of one column are written, from `data` (none by default): the rest holds no storage, its
+// rows of each column are written, from `data` (none by default): the rest holds no storage, its
 // values only the fill value. libmatio cannot write one; MATLAB's matfile() leaves one when a
 // variable is grown and not filled. The MATLAB_class attribute is the one libmatio writes.
 // `type` is the values' type in the file and in `data`: HDF5's native double unless given (its
@@ -422,9 +422,10 @@ void add_dataset(const std::filesystem::path& file, const char* name, hsize_t ro
   const hid_t d = H5Dcreate2(f, name, type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
   ASSERT_GE(d, 0);
   if (data && written_rows > 0) {
-    const hsize_t start[2] = {0, 0}, count[2] = {1, written_rows};
+    const hsize_t start[2] = {0, 0}, count[2] = {cols, written_rows};
     ASSERT_GE(H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, count, nullptr), 0);
-    const hid_t memory = H5Screate_simple(1, &written_rows, nullptr);
+    const hsize_t values = cols * written_rows;
+    const hid_t memory = H5Screate_simple(1, &values, nullptr);
     ASSERT_GE(H5Dwrite(d, type, memory, space, H5P_DEFAULT, data), 0);
     H5Sclose(memory);
   }
@@ -519,7 +520,8 @@ TEST(MatfileFuzzRegression, AV73DatasetStoringValuesWiderThanItsClassIsRefused) 
 
 // The same rule on a made file: beside a good vector, a complex one (a compound of two doubles,
 // 16 bytes, as MATLAB stores one) is listed as complex, and a dataset of 3 x 2 doubles stored
-// 4,096 bytes wide is left out and refused by name.
+// 4,096 bytes wide, all six written (24,576 bytes stored, so that only the width refuses it), is
+// left out and refused by name.
 TEST(MatfileV73, ADatasetOfWideValuesIsLeftOutAndRefusedWhenRead) {
   if (!v73_supported())
     GTEST_SKIP() << "this libmatio cannot create v7.3 files (built without HDF5)";
@@ -529,7 +531,8 @@ TEST(MatfileV73, ADatasetOfWideValuesIsLeftOutAndRefusedWhenRead) {
   write_mat(file, {{"good", good}}, Version::kV73);
   const hid_t wide = H5Tcopy(H5T_IEEE_F64LE);
   ASSERT_GE(H5Tset_size(wide, 4096), 0);
-  add_dataset(file, "wide", 3, 2, wide);
+  const std::vector<unsigned char> wide_zeros(6 * 4096, 0);  // six 0.0 in the wide type
+  add_dataset(file, "wide", 3, 2, wide, wide_zeros.data(), 3);
   H5Tclose(wide);
   const hid_t complex = H5Tcreate(H5T_COMPOUND, 16);
   H5Tinsert(complex, "real", 0, H5T_NATIVE_DOUBLE);
