@@ -299,9 +299,7 @@ TEST(MatfileV73, ReaderReplyLimitStopsALargeReply) {
   EXPECT_EQ(read_vector(file, "v").size(), 1000);
 }
 
-// The fuzz target's kept reader process (set_reader_process_reuse): the same values and
-// messages as a process per read, and a damaged file that ends the process (finding 8's, which
-// libhdf5 may crash on) does not spoil the reads after it.
+// The message for reading `name` of `file` as a vector ("" when it reads).
 std::string vector_error(const std::filesystem::path& file, const std::string& name) {
   try {
     read_vector(file, name);
@@ -310,6 +308,10 @@ std::string vector_error(const std::filesystem::path& file, const std::string& n
   }
   return "";
 }
+
+// The fuzz target's kept reader process (set_reader_process_reuse): the same values and
+// messages as a process per read, and a damaged file that ends the process (finding 8's, which
+// libhdf5 may crash on) does not spoil the reads after it.
 
 TEST(MatfileReaderReuse, AKeptReaderProcessReadsAsAProcessPerReadDoes) {
   struct Restore {
@@ -443,16 +445,6 @@ void add_dataset(const std::filesystem::path& file, const char* name, hsize_t ro
   H5Fclose(f);
 }
 
-// The message for reading `name` of `file` as a vector ("" when it reads).
-std::string read_error(const std::filesystem::path& file, const std::string& name) {
-  try {
-    read_vector(file, name);
-  } catch (const InputError& x) {
-    return x.what();
-  }
-  return "";
-}
-
 // The bound on what a v7.3 dataset stores, on a made file. Beside a good vector (contiguous,
 // written by libmatio): 'big' declares 100,000,000 values (800 MB) and stores none; 'half'
 // declares 2,048 and stores the first of its two chunks of 1,024 (8,192 bytes of 16,384);
@@ -483,12 +475,12 @@ TEST(MatfileV73, ADatasetNotWrittenInFullIsLeftOutAndRefusedWhenRead) {
   EXPECT_EQ(read_vector(file, "good"), good);
   EXPECT_EQ(read_vector(file, "full"), ramp);
   EXPECT_EQ(read_vector(file, "zeros"), zeros);
-  EXPECT_EQ(read_error(file, "big"),
+  EXPECT_EQ(vector_error(file, "big"),
             file.string() +
                 ": variable 'big' declares 100000000 x 1 values of 8 bytes, more than the 0 "
                 "bytes stored for it can hold (a damaged file, or a dataset never written in "
                 "full)");
-  EXPECT_EQ(read_error(file, "half"),
+  EXPECT_EQ(vector_error(file, "half"),
             file.string() +
                 ": variable 'half' declares 2048 x 1 values of 8 bytes, more than the 8192 "
                 "bytes stored for it can hold (a damaged file, or a dataset never written in "
@@ -508,14 +500,15 @@ TEST(MatfileFuzzRegression, AV73DatasetStoringValuesWiderThanItsClassIsRefused) 
   std::filesystem::copy_file(
       std::filesystem::path(CHATTERLAB_TEST_DATA) / "matfile/wide_values_v73.mat", file);
   EXPECT_TRUE(numeric_variables(file).empty());
-  EXPECT_EQ(read_error(file, "M"), file.string() +
-                                       ": variable 'M' stores values of 691350586 bytes each, "
-                                       "where a value of a MATLAB numeric class takes at most 8 "
-                                       "(a damaged file)");
-  EXPECT_EQ(read_error(file, "force"), file.string() +
-                                           ": variable 'force' stores values of 15112 bytes each, "
-                                           "where a value of a MATLAB numeric class takes at most "
-                                           "8 (a damaged file)");
+  EXPECT_EQ(vector_error(file, "M"), file.string() +
+                                         ": variable 'M' stores values of 691350586 bytes each, "
+                                         "where a value of a MATLAB numeric class takes at most 8 "
+                                         "(a damaged file)");
+  EXPECT_EQ(vector_error(file, "force"),
+            file.string() +
+                ": variable 'force' stores values of 15112 bytes each, "
+                "where a value of a MATLAB numeric class takes at most "
+                "8 (a damaged file)");
 }
 
 // The same rule on a made file: beside a good vector, a complex one (a compound of two doubles,
@@ -549,12 +542,12 @@ TEST(MatfileV73, ADatasetOfWideValuesIsLeftOutAndRefusedWhenRead) {
   EXPECT_TRUE(vars[1].complex);
   EXPECT_EQ(vars[1].rows, 4u);
   EXPECT_EQ(read_vector(file, "good"), good);
-  EXPECT_EQ(read_error(file, "z"),
+  EXPECT_EQ(vector_error(file, "z"),
             file.string() + ": variable 'z' is complex: a signal channel must be real");
-  EXPECT_EQ(read_error(file, "wide"), file.string() +
-                                          ": variable 'wide' stores values of 4096 bytes each, "
-                                          "where a value of a MATLAB numeric class takes at most "
-                                          "8 (a damaged file)");
+  EXPECT_EQ(vector_error(file, "wide"), file.string() +
+                                            ": variable 'wide' stores values of 4096 bytes each, "
+                                            "where a value of a MATLAB numeric class takes at most "
+                                            "8 (a damaged file)");
 }
 
 // Fuzzing finding 13 (docs/fuzzing.md): a v5 matrix of 0 x 5 doubles, whose last column the
