@@ -46,6 +46,14 @@ std::string error_of(const std::filesystem::path& file, int call) {
   return "";
 }
 
+// A copy in `dir`, named `name`, of tests/data/matfile/<data> (the tests read copies, so that
+// their messages name a path of their own).
+std::filesystem::path copy_of_test_file(const TempDir& dir, const char* data, const char* name) {
+  const auto file = dir.path() / name;
+  std::filesystem::copy_file(std::filesystem::path(CHATTERLAB_TEST_DATA) / "matfile" / data, file);
+  return file;
+}
+
 std::string file_bytes(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   std::stringstream s;
@@ -202,10 +210,7 @@ TEST(MatfileV73, ReadInAChildProcessGivesTheValuesAndMessages) {
 // death under ASan gives), and reading a variable is an InputError naming the file.
 TEST(MatfileFuzzRegression, AV73FileThatOverflowedLibhdf5EndsInAnInputError) {
   const TempDir dir;
-  const auto file = dir.path() / "finding8.mat";
-  std::filesystem::copy_file(
-      std::filesystem::path(CHATTERLAB_TEST_DATA) / "matfile/finding8_hdf5_heap_overflow.mat",
-      file);
+  const auto file = copy_of_test_file(dir, "finding8_hdf5_heap_overflow.mat", "finding8.mat");
   for (int call = 0; call < 2; ++call) {
     try {
       if (call == 0) {
@@ -227,9 +232,7 @@ TEST(MatfileFuzzRegression, AV73FileThatOverflowedLibhdf5EndsInAnInputError) {
 // declared. The walk now reads the matrix as libmatio does.
 TEST(MatfileFuzzRegression, NameTagBeyondItsVariableIsRefusedBeforeLibmatio) {
   const TempDir dir;
-  const auto file = dir.path() / "finding9.mat";
-  std::filesystem::copy_file(
-      std::filesystem::path(CHATTERLAB_TEST_DATA) / "matfile/finding9_name_tag.mat", file);
+  const auto file = copy_of_test_file(dir, "finding9_name_tag.mat", "finding9.mat");
   try {
     numeric_variables(file);
     ADD_FAILURE() << "no InputError";
@@ -247,10 +250,7 @@ TEST(MatfileFuzzRegression, NameTagBeyondItsVariableIsRefusedBeforeLibmatio) {
 // 1.2 s a read in a Release build, the reader time limit in the fuzz target (6.9 s an input).
 TEST(MatfileFuzzRegression, AVariableTooShortForItsNameIsRefusedBeforeLibmatio) {
   const TempDir dir;
-  const auto file = dir.path() / "finding14.mat";
-  std::filesystem::copy_file(
-      std::filesystem::path(CHATTERLAB_TEST_DATA) / "matfile/finding14_name_past_variable.mat",
-      file);
+  const auto file = copy_of_test_file(dir, "finding14_name_past_variable.mat", "finding14.mat");
   try {
     numeric_variables(file);
     ADD_FAILURE() << "no InputError";
@@ -322,10 +322,7 @@ TEST(MatfileReaderReuse, AKeptReaderProcessReadsAsAProcessPerReadDoes) {
   Eigen::MatrixXd m(3, 2);
   m << 1.5, -2, 3, 4e-9, 5, 6;
   write_mat(good, {{"M", m}, {"v", Eigen::MatrixXd::Constant(1, 4, 0.25)}});
-  const auto damaged = dir.path() / "finding8.mat";
-  std::filesystem::copy_file(
-      std::filesystem::path(CHATTERLAB_TEST_DATA) / "matfile/finding8_hdf5_heap_overflow.mat",
-      damaged);
+  const auto damaged = copy_of_test_file(dir, "finding8_hdf5_heap_overflow.mat", "finding8.mat");
 
   // A process per read: the reference.
   EXPECT_EQ(kept_reader_process(), -1);
@@ -386,9 +383,7 @@ TEST(MatfileReaderReuse, AKeptReaderProcessReadsAsAProcessPerReadDoes) {
 TEST(MatfileFuzzRegression, AV73DatasetDeclaringMoreThanItsFileHoldsIsRefused) {
   if (!v73_supported()) GTEST_SKIP() << "this libmatio cannot read v7.3 files (built without HDF5)";
   const TempDir dir;
-  const auto file = dir.path() / "fill_value.mat";
-  std::filesystem::copy_file(
-      std::filesystem::path(CHATTERLAB_TEST_DATA) / "matfile/fill_value_v73.mat", file);
+  const auto file = copy_of_test_file(dir, "fill_value_v73.mat", "fill_value.mat");
   for (const auto& v : numeric_variables(file)) EXPECT_NE(v.name, "forcc");
   std::string read;
   try {
@@ -496,9 +491,7 @@ TEST(MatfileV73, ADatasetNotWrittenInFullIsLeftOutAndRefusedWhenRead) {
 TEST(MatfileFuzzRegression, AV73DatasetStoringValuesWiderThanItsClassIsRefused) {
   if (!v73_supported()) GTEST_SKIP() << "this libmatio cannot read v7.3 files (built without HDF5)";
   const TempDir dir;
-  const auto file = dir.path() / "wide.mat";
-  std::filesystem::copy_file(
-      std::filesystem::path(CHATTERLAB_TEST_DATA) / "matfile/wide_values_v73.mat", file);
+  const auto file = copy_of_test_file(dir, "wide_values_v73.mat", "wide.mat");
   EXPECT_TRUE(numeric_variables(file).empty());
   EXPECT_EQ(vector_error(file, "M"), file.string() +
                                          ": variable 'M' stores values of 691350586 bytes each, "
